@@ -1,0 +1,101 @@
+#include "cli/args.hpp"
+
+#include <charconv>
+#include <cmath>
+
+namespace tagbench::cli {
+
+Args::Args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& specs) {
+  const auto find = [&](const std::string& name, bool is_short) -> const OptionSpec* {
+    for (const auto& s : specs)
+      if ((is_short ? s.short_name : s.name) == name && !name.empty()) return &s;
+    return nullptr;
+  };
+  bool only_positionals = false;
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    const std::string& a = argv[i];
+    if (only_positionals || a.size() < 2 || a[0] != '-') {
+      positionals_.push_back(a);
+      continue;
+    }
+    if (a == "--") {
+      only_positionals = true;
+      continue;
+    }
+    const bool is_long = a.rfind("--", 0) == 0;
+    std::string name = a.substr(is_long ? 2 : 1);
+    std::optional<std::string> inline_value;
+    if (const auto eq = name.find('='); is_long && eq != std::string::npos) {
+      inline_value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    }
+    const OptionSpec* spec = find(name, !is_long);
+    if (!spec) throw UsageError("unknown option '" + a + "'");
+    const std::string shown = "--" + spec->name;
+    auto& slot = values_[spec->name];
+    if (!slot.empty() && !spec->repeatable) throw UsageError(shown + " given more than once");
+    if (!spec->takes_value) {
+      if (inline_value) throw UsageError(shown + " takes no value");
+      slot.push_back("1");
+      continue;
+    }
+    if (inline_value) {
+      slot.push_back(*inline_value);
+    } else {
+      if (i + 1 >= argv.size()) throw UsageError(shown + " needs a value");
+      slot.push_back(argv[++i]);
+    }
+  }
+}
+
+std::optional<std::string> Args::get(const std::string& name) const {
+  const auto it = values_.find(name);
+  if (it == values_.end() || it->second.empty()) return std::nullopt;
+  return it->second.back();
+}
+
+std::string Args::get_or(const std::string& name, const std::string& fallback) const {
+  return get(name).value_or(fallback);
+}
+
+std::vector<std::string> Args::all(const std::string& name) const {
+  const auto it = values_.find(name);
+  return it == values_.end() ? std::vector<std::string>{} : it->second;
+}
+
+long long parse_int(const std::string& option, const std::string& text, long long lo, long long hi) {
+  long long v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size() || text.empty())
+    throw UsageError(option + ": '" + text + "' is not an integer");
+  if (v < lo || v > hi)
+    throw UsageError(option + ": " + text + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
+  return v;
+}
+
+double parse_double(const std::string& option, const std::string& text, double lo, double hi) {
+  double v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size() || text.empty() || !std::isfinite(v))
+    throw UsageError(option + ": '" + text + "' is not a finite number");
+  if (v < lo || v > hi) throw UsageError(option + ": " + text + " is outside the allowed range");
+  return v;
+}
+
+long long Args::get_int(const std::string& name, long long fallback, long long lo, long long hi) const {
+  const auto v = get(name);
+  return v ? parse_int("--" + name, *v, lo, hi) : fallback;
+}
+
+std::optional<long long> Args::get_int(const std::string& name, long long lo, long long hi) const {
+  const auto v = get(name);
+  if (!v) return std::nullopt;
+  return parse_int("--" + name, *v, lo, hi);
+}
+
+double Args::get_double(const std::string& name, double fallback, double lo, double hi) const {
+  const auto v = get(name);
+  return v ? parse_double("--" + name, *v, lo, hi) : fallback;
+}
+
+}  // namespace tagbench::cli

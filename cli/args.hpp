@@ -1,0 +1,51 @@
+#pragma once
+// A small command-line parser for the git-style subcommands: --name value, --name=value, flags,
+// repeatable options and positionals. Every error is a UsageError with a one-line message that
+// names the option.
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace tagbench::cli {
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct OptionSpec {
+  OptionSpec(std::string n, bool value = true, bool repeat = false, std::string short_n = "")
+      : name(std::move(n)), takes_value(value), repeatable(repeat), short_name(std::move(short_n)) {}
+  std::string name;        // without dashes, e.g. "bits"
+  bool takes_value;
+  bool repeatable;
+  std::string short_name;  // e.g. "o" for -o; empty if none
+};
+
+class Args {
+ public:
+  // Parses argv after the subcommand words; throws UsageError on unknown options or missing values.
+  Args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& specs);
+
+  bool has(const std::string& name) const { return values_.count(name) > 0; }
+  bool flag(const std::string& name) const { return has(name); }
+  std::optional<std::string> get(const std::string& name) const;
+  std::string get_or(const std::string& name, const std::string& fallback) const;
+  std::vector<std::string> all(const std::string& name) const;
+  const std::vector<std::string>& positionals() const { return positionals_; }
+
+  // Typed getters that check the range; errors name the option: "--bits: 'x' is not an integer".
+  long long get_int(const std::string& name, long long fallback, long long lo, long long hi) const;
+  std::optional<long long> get_int(const std::string& name, long long lo, long long hi) const;
+  double get_double(const std::string& name, double fallback, double lo, double hi) const;
+
+ private:
+  std::map<std::string, std::vector<std::string>> values_;
+  std::vector<std::string> positionals_;
+};
+
+long long parse_int(const std::string& option, const std::string& text, long long lo, long long hi);
+double parse_double(const std::string& option, const std::string& text, double lo, double hi);
+
+}  // namespace tagbench::cli

@@ -1,0 +1,18 @@
+#pragma once
+// The `tagbench` subcommands. Each takes the words after its name and returns the exit code;
+// errors are thrown (UsageError -> exit 2, anything else -> exit 1) and printed on one line by main.
+#include <string>
+#include <vector>
+
+namespace tagbench::cli {
+
+using Words = std::vector<std::string>;
+
+int cmd_family(const Words& args);
+int cmd_render(const Words& args);
+int cmd_codes(const Words& args);
+
+// True (and the help printed to stdout) when args ask for help.
+bool wants_help(const Words& args, const char* help_text);
+
+}  // namespace tagbench::cli

@@ -1,0 +1,69 @@
+// tagbench: the AprilTag (2011) detector, coding system and benchmark harness, one program with
+// git-style subcommands.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "cli/args.hpp"
+#include "cli/commands.hpp"
+
+namespace {
+
+constexpr const char* kHelp = R"(usage: tagbench <command> [options]
+
+Commands:
+  family    list, show, check, generate tag families (family --help)
+  render    write a tag as PNG (for POV-Ray) or printable SVG
+  codes     the paper's code experiments: code table, Fig. 5 distances, false-positive theory
+
+Run 'tagbench <command> --help' for a command's options.
+Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).
+)";
+
+struct Command {
+  const char* name;
+  int (*run)(const tagbench::cli::Words&);
+};
+
+constexpr Command kCommands[] = {
+    {"family", tagbench::cli::cmd_family},
+    {"render", tagbench::cli::cmd_render},
+    {"codes", tagbench::cli::cmd_codes},
+};
+
+}  // namespace
+
+namespace tagbench::cli {
+bool wants_help(const Words& args, const char* help_text) {
+  for (const auto& a : args)
+    if (a == "--help" || a == "-h") {
+      std::fputs(help_text, stdout);
+      return true;
+    }
+  return false;
+}
+}  // namespace tagbench::cli
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+    std::fputs(kHelp, argc < 2 ? stderr : stdout);
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string name = argv[1];
+  tagbench::cli::Words rest(argv + 2, argv + argc);
+  for (const auto& c : kCommands) {
+    if (name != c.name) continue;
+    try {
+      return c.run(rest);
+    } catch (const tagbench::cli::UsageError& e) {
+      std::fprintf(stderr, "tagbench %s: %s\n", c.name, e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "tagbench %s: %s\n", c.name, e.what());
+      return 1;
+    }
+  }
+  std::fprintf(stderr, "tagbench: unknown command '%s' (run 'tagbench --help')\n", name.c_str());
+  return 2;
+}

@@ -1,0 +1,213 @@
+#include "codes/family_io.hpp"
+
+#include <charconv>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "util/atomic_file.hpp"
+
+namespace tagbench {
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+struct HeaderFile {
+  std::map<std::string, std::string> keys;
+  std::map<std::string, int> key_line;
+  std::vector<Code> codes;
+  std::vector<int> code_line;
+};
+
+HeaderFile parse_header_file(const std::string& text, const std::string& source,
+                             const std::vector<std::string>& allowed) {
+  HeaderFile f;
+  std::istringstream in(text);
+  std::string raw;
+  int line_no = 0;
+  while (std::getline(in, raw)) {
+    ++line_no;
+    const std::string line = trim(raw);
+    const auto where = [&] { return source + ":" + std::to_string(line_no) + ": "; };
+    if (line.empty() || line[0] == '#') continue;
+    const auto colon = line.find(':');
+    if (colon != std::string::npos) {
+      if (!f.codes.empty()) throw std::invalid_argument(where() + "header line '" + line + "' after the codes");
+      const std::string key = trim(line.substr(0, colon)), value = trim(line.substr(colon + 1));
+      bool known = false;
+      for (const auto& a : allowed) known = known || a == key;
+      if (!known) throw std::invalid_argument(where() + "unknown header key '" + key + "'");
+      if (f.keys.count(key)) throw std::invalid_argument(where() + "header key '" + key + "' given twice");
+      f.keys[key] = value;
+      f.key_line[key] = line_no;
+      continue;
+    }
+    const auto code = parse_hex_code(line);
+    if (!code) throw std::invalid_argument(where() + "not a hex code: '" + line + "'");
+    f.codes.push_back(*code);
+    f.code_line.push_back(line_no);
+  }
+  return f;
+}
+
+long long get_int(const HeaderFile& f, const std::string& key, const std::string& source, bool required,
+                  long long fallback = 0) {
+  const auto it = f.keys.find(key);
+  if (it == f.keys.end()) {
+    if (required) throw std::invalid_argument(source + ": missing header key '" + key + "'");
+    return fallback;
+  }
+  long long v = 0;
+  const auto& s = it->second;
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (r.ec != std::errc() || r.ptr != s.data() + s.size())
+    throw std::invalid_argument(source + ":" + std::to_string(f.key_line.at(key)) + ": '" + key +
+                                "' is not an integer: '" + s + "'");
+  return v;
+}
+
+std::string hex(Code c) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "0x%llx", static_cast<unsigned long long>(c));
+  return buf;
+}
+
+std::string u128_to_string(unsigned __int128 v) {
+  if (v == 0) return "0";
+  std::string s;
+  while (v) {
+    s.insert(s.begin(), static_cast<char>('0' + static_cast<int>(v % 10)));
+    v /= 10;
+  }
+  return s;
+}
+
+}  // namespace
+
+std::optional<Code> parse_hex_code(const std::string& token) {
+  std::string t = token;
+  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) t = t.substr(2);
+  if (t.empty() || t.size() > 16) return std::nullopt;
+  Code v = 0;
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v, 16);
+  if (r.ec != std::errc() || r.ptr != t.data() + t.size()) return std::nullopt;
+  return v;
+}
+
+TagFamily parse_family(const std::string& text, const std::string& source) {
+  const HeaderFile f = parse_header_file(
+      text, source, {"name", "bits", "hamming", "complexity", "seed", "order", "generator", "count", "status"});
+  if (f.keys.count("status") && f.keys.at("status") != "complete")
+    throw std::invalid_argument(source + ": status is '" + f.keys.at("status") +
+                                "': a partial generator run is not a family");
+  FamilyInfo info;
+  if (!f.keys.count("name")) throw std::invalid_argument(source + ": missing header key 'name'");
+  info.name = f.keys.at("name");
+  info.bits = static_cast<int>(get_int(f, "bits", source, true));
+  info.min_hamming = static_cast<int>(get_int(f, "hamming", source, true));
+  info.min_complexity = static_cast<int>(get_int(f, "complexity", source, true));
+  if (f.keys.count("seed")) info.seed = get_int(f, "seed", source, true);
+  if (f.keys.count("order")) info.order = f.keys.at("order");
+  if (f.keys.count("generator")) info.generator = f.keys.at("generator");
+  const long long count = get_int(f, "count", source, true);
+  if (count != static_cast<long long>(f.codes.size()))
+    throw std::invalid_argument(source + ": header says count " + std::to_string(count) + " but the file has " +
+                                std::to_string(f.codes.size()) + " codes");
+  try {
+    return TagFamily(std::move(info), f.codes);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(source + ": " + e.what());
+  }
+}
+
+TagFamily read_family_file(const std::filesystem::path& path) {
+  return parse_family(read_file(path), path.string());
+}
+
+std::string format_family(const TagFamily& family, const std::vector<std::string>& comments) {
+  const FamilyInfo& i = family.info();
+  std::ostringstream o;
+  o << "# tagbench family file (codes in AprilTag 1 order: MSB = top-left payload cell, row-major, 1 = white)\n";
+  for (const auto& c : comments) o << "# " << c << "\n";
+  o << "name: " << i.name << "\nbits: " << i.bits << "\nhamming: " << i.min_hamming
+    << "\ncomplexity: " << i.min_complexity << "\n";
+  if (i.seed) o << "seed: " << *i.seed << "\n";
+  if (!i.order.empty()) o << "order: " << i.order << "\n";
+  if (!i.generator.empty()) o << "generator: " << i.generator << "\n";
+  o << "count: " << family.size() << "\n";
+  for (const Code c : family.codes()) o << hex(c) << "\n";
+  return o.str();
+}
+
+std::string format_family_cpp(const TagFamily& family) {
+  const FamilyInfo& i = family.info();
+  std::string ident = "tag" + i.name;
+  for (char& ch : ident)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  std::ostringstream o;
+  o << "// Tag family " << i.name << ": " << family.size() << " codes, " << i.bits << " bits, minimum Hamming distance "
+    << i.min_hamming << ", minimum complexity " << i.min_complexity;
+  if (i.seed) o << ", seed " << *i.seed;
+  if (!i.order.empty()) o << ", " << i.order << " order";
+  o << ".\n// AprilTag 1 order: MSB = top-left payload cell, row-major, 1 = white.\n#include <cstdint>\n\n"
+    << "inline constexpr int " << ident << "_bits = " << i.bits << ";\n"
+    << "inline constexpr int " << ident << "_min_hamming = " << i.min_hamming << ";\n"
+    << "inline constexpr std::uint64_t " << ident << "_codes[" << family.size() << "] = {\n";
+  for (std::size_t k = 0; k < family.size(); ++k)
+    o << (k % 6 == 0 ? "    " : " ") << hex(family.codes()[k]) << "ULL," << (k % 6 == 5 || k + 1 == family.size() ? "\n" : "");
+  o << "};\n";
+  return o.str();
+}
+
+std::string format_checkpoint(const LexicodeParams& p, const LexicodeState& s) {
+  std::ostringstream o;
+  o << "# tagbench lexicode checkpoint: resume with `tagbench family generate ... --checkpoint FILE --resume`\n"
+    << "status: partial\nbits: " << p.bits << "\nhamming: " << p.min_hamming << "\ncomplexity: " << p.resolved_complexity()
+    << "\nseed: " << p.resolved_seed() << "\norder: " << to_string(p.order) << "\ngenerator: tagbench-lexicode "
+    << kGeneratorVersion << "\nnext_index: " << u128_to_string(s.next_index) << "\nelapsed_seconds: "
+    << static_cast<long long>(s.elapsed_seconds * 1000) << "e-3\ncount: " << s.codes.size() << "\n";
+  for (const Code c : s.codes) o << hex(c) << "\n";
+  return o.str();
+}
+
+Checkpoint read_checkpoint(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  const HeaderFile f = parse_header_file(read_file(path), source,
+                                         {"status", "bits", "hamming", "complexity", "seed", "order", "generator",
+                                          "next_index", "elapsed_seconds", "count"});
+  if (!f.keys.count("status") || f.keys.at("status") != "partial")
+    throw std::invalid_argument(source + ": not a lexicode checkpoint (no 'status: partial')");
+  Checkpoint c;
+  c.params.bits = static_cast<int>(get_int(f, "bits", source, true));
+  c.params.min_hamming = static_cast<int>(get_int(f, "hamming", source, true));
+  c.params.min_complexity = static_cast<int>(get_int(f, "complexity", source, true));
+  c.params.seed = get_int(f, "seed", source, true);
+  c.params.order = parse_candidate_order(f.keys.count("order") ? f.keys.at("order") : "prime");
+  if (f.keys.count("generator") && f.keys.at("generator") != "tagbench-lexicode " + std::to_string(kGeneratorVersion))
+    throw std::invalid_argument(source + ": written by another generator version: '" + f.keys.at("generator") + "'");
+  {
+    const auto it = f.keys.find("next_index");
+    if (it == f.keys.end()) throw std::invalid_argument(source + ": missing header key 'next_index'");
+    unsigned __int128 v = 0;
+    for (const char ch : it->second) {
+      if (ch < '0' || ch > '9') throw std::invalid_argument(source + ": 'next_index' is not an integer");
+      v = v * 10 + static_cast<unsigned>(ch - '0');
+    }
+    c.state.next_index = v;
+  }
+  if (f.keys.count("elapsed_seconds")) c.state.elapsed_seconds = std::stod(f.keys.at("elapsed_seconds"));
+  const long long count = get_int(f, "count", source, true);
+  if (count != static_cast<long long>(f.codes.size()))
+    throw std::invalid_argument(source + ": header says count " + std::to_string(count) + " but the file has " +
+                                std::to_string(f.codes.size()) + " codes");
+  c.state.codes = f.codes;
+  c.params.validate();
+  return c;
+}
+
+}  // namespace tagbench

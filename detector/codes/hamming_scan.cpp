@@ -1,0 +1,129 @@
+#include "codes/hamming_scan.hpp"
+
+#include <bit>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define TAGBENCH_HAVE_AVX512_PATH 1
+#endif
+
+namespace tagbench {
+namespace {
+
+std::ptrdiff_t first_within_scalar(const Code* w, std::size_t n, Code v, int max_distance) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::popcount(v ^ w[i]) <= max_distance) return static_cast<std::ptrdiff_t>(i);
+  return -1;
+}
+
+NearestWord nearest_scalar(const Code* w, std::size_t n, Code v, int max_distance) {
+  NearestWord best;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int d = std::popcount(v ^ w[i]);
+    if (d <= max_distance && d < best.distance) {
+      best.distance = d;
+      best.index = static_cast<std::ptrdiff_t>(i);
+    }
+  }
+  return best;
+}
+
+#ifdef TAGBENCH_HAVE_AVX512_PATH
+__attribute__((target("avx512f,avx512vpopcntdq"))) std::ptrdiff_t first_within_avx512(
+    const Code* w, std::size_t n, Code v, int max_distance) {
+  const __m512i vv = _mm512_set1_epi64(static_cast<long long>(v));
+  const __m512i lim = _mm512_set1_epi64(max_distance + 1);  // popcount < lim
+  std::size_t i = 0;
+  // Four vectors per iteration: one branch per 32 words keeps the loop throughput-bound.
+  for (; i + 32 <= n; i += 32) {
+    const __m512i a = _mm512_popcnt_epi64(_mm512_xor_si512(vv, _mm512_loadu_si512(w + i)));
+    const __m512i b = _mm512_popcnt_epi64(_mm512_xor_si512(vv, _mm512_loadu_si512(w + i + 8)));
+    const __m512i c = _mm512_popcnt_epi64(_mm512_xor_si512(vv, _mm512_loadu_si512(w + i + 16)));
+    const __m512i d = _mm512_popcnt_epi64(_mm512_xor_si512(vv, _mm512_loadu_si512(w + i + 24)));
+    const __mmask8 ma = _mm512_cmplt_epu64_mask(a, lim), mb = _mm512_cmplt_epu64_mask(b, lim);
+    const __mmask8 mc = _mm512_cmplt_epu64_mask(c, lim), md = _mm512_cmplt_epu64_mask(d, lim);
+    if ((ma | mb | mc | md) != 0) {
+      const std::uint32_t all = static_cast<std::uint32_t>(ma) | (static_cast<std::uint32_t>(mb) << 8) |
+                                (static_cast<std::uint32_t>(mc) << 16) | (static_cast<std::uint32_t>(md) << 24);
+      return static_cast<std::ptrdiff_t>(i + static_cast<std::size_t>(std::countr_zero(all)));
+    }
+  }
+  for (; i + 8 <= n; i += 8) {
+    const __m512i a = _mm512_popcnt_epi64(_mm512_xor_si512(vv, _mm512_loadu_si512(w + i)));
+    const __mmask8 m = _mm512_cmplt_epu64_mask(a, lim);
+    if (m) return static_cast<std::ptrdiff_t>(i + static_cast<std::size_t>(std::countr_zero(static_cast<unsigned>(m))));
+  }
+  if (i < n) {
+    const __mmask8 tail = static_cast<__mmask8>((1u << (n - i)) - 1);
+    const __m512i a = _mm512_popcnt_epi64(_mm512_xor_si512(vv, _mm512_maskz_loadu_epi64(tail, w + i)));
+    const __mmask8 m = _mm512_mask_cmplt_epu64_mask(tail, a, lim);
+    if (m) return static_cast<std::ptrdiff_t>(i + static_cast<std::size_t>(std::countr_zero(static_cast<unsigned>(m))));
+  }
+  return -1;
+}
+
+__attribute__((target("avx512f,avx512vpopcntdq"))) NearestWord nearest_avx512(const Code* w, std::size_t n,
+                                                                              Code v, int max_distance) {
+  NearestWord best;
+  const __m512i vv = _mm512_set1_epi64(static_cast<long long>(v));
+  __m512i lim = _mm512_set1_epi64(max_distance + 1);
+  std::size_t i = 0;
+  for (; i < n; i += 8) {
+    const __mmask8 tail = n - i >= 8 ? static_cast<__mmask8>(0xFF) : static_cast<__mmask8>((1u << (n - i)) - 1);
+    const __m512i a = _mm512_popcnt_epi64(_mm512_xor_si512(vv, _mm512_maskz_loadu_epi64(tail, w + i)));
+    __mmask8 m = _mm512_mask_cmplt_epu64_mask(tail, a, lim);
+    while (m) {  // rare: only words within the limit
+      const int k = std::countr_zero(static_cast<unsigned>(m));
+      m = static_cast<__mmask8>(m & (m - 1));
+      const int d = std::popcount(v ^ w[i + static_cast<std::size_t>(k)]);
+      if (d < best.distance) {
+        best.distance = d;
+        best.index = static_cast<std::ptrdiff_t>(i + static_cast<std::size_t>(k));
+        lim = _mm512_set1_epi64(d);  // later words must be strictly nearer
+      }
+    }
+  }
+  return best;
+}
+
+bool cpu_has_avx512_popcnt() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vpopcntdq");
+}
+#endif
+
+struct Impl {
+  std::ptrdiff_t (*first)(const Code*, std::size_t, Code, int) = first_within_scalar;
+  NearestWord (*nearest)(const Code*, std::size_t, Code, int) = nearest_scalar;
+  const char* name = "scalar";
+  Impl() {
+#ifdef TAGBENCH_HAVE_AVX512_PATH
+    if (cpu_has_avx512_popcnt()) {
+      first = first_within_avx512;
+      nearest = nearest_avx512;
+      name = "avx512-vpopcntdq";
+    }
+#endif
+  }
+};
+
+const Impl& impl() {
+  static const Impl chosen;
+  return chosen;
+}
+
+}  // namespace
+
+std::ptrdiff_t first_within(std::span<const Code> words, Code v, int max_distance) {
+  if (max_distance < 0) return -1;
+  return impl().first(words.data(), words.size(), v, max_distance);
+}
+
+NearestWord nearest_within(std::span<const Code> words, Code v, int max_distance) {
+  if (max_distance < 0) return {};
+  return impl().nearest(words.data(), words.size(), v, max_distance);
+}
+
+const char* hamming_scan_impl() { return impl().name; }
+
+}  // namespace tagbench

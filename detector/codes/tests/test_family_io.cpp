@@ -1,0 +1,87 @@
+#include <gtest/gtest.h>
+
+#include "codes/families.hpp"
+#include "codes/family_io.hpp"
+
+using namespace tagbench;
+
+namespace {
+const char* kGood = R"(# a comment
+name: mini
+bits: 16
+hamming: 5
+complexity: 5
+seed: 160505
+order: prime
+generator: tagbench-lexicode 1
+count: 3
+0x231b
+2ea5
+0x346a
+)";
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  s.replace(s.find(from), from.size(), to);
+  return s;
+}
+
+void expect_error(const std::string& text, const std::string& fragment) {
+  try {
+    parse_family(text, "in.fam");
+    FAIL() << "accepted: " << fragment;
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("in.fam"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+  }
+}
+}  // namespace
+
+TEST(FamilyIo, ParsesAndRoundTrips) {
+  const TagFamily f = parse_family(kGood, "in.fam");
+  EXPECT_EQ(f.name(), "mini");
+  EXPECT_EQ(f.size(), 3u);
+  EXPECT_EQ(f.codes()[1], 0x2ea5u);
+  EXPECT_EQ(f.info().seed.value(), 160505);
+  const TagFamily g = parse_family(format_family(f, {"a record"}), "again");
+  EXPECT_EQ(g.codes(), f.codes());
+  EXPECT_EQ(g.info().generator, f.info().generator);
+  EXPECT_EQ(g.min_hamming(), 5);
+}
+
+TEST(FamilyIo, EveryBuiltInFamilyRoundTrips) {
+  for (const auto& n : builtin_family_names()) {
+    const TagFamily& f = builtin_family(n);
+    EXPECT_EQ(parse_family(format_family(f), n).codes(), f.codes()) << n;
+  }
+}
+
+TEST(FamilyIo, BadFilesAreRefusedWithTheProblemNamed) {
+  expect_error(replace(kGood, "2ea5", "2eg5"), ":11: not a hex code");
+  expect_error(replace(kGood, "count: 3", "count: 4"), "count 4 but the file has 3");
+  expect_error(replace(kGood, "2ea5", "0x231b"), "duplicate code 0x231b");
+  expect_error(replace(kGood, "hamming: 5", "hamming: 9"), "closer than h=9");
+  expect_error(replace(kGood, "bits: 16", "bits: 20"), "not a square");
+  expect_error(replace(kGood, "bits: 16", "bits: 100"), "over 64");
+  expect_error(replace(kGood, "hamming: 5", "hamming: 17"), "larger than bits");
+  expect_error(replace(kGood, "name: mini\n", ""), "missing header key 'name'");
+  expect_error(replace(kGood, "seed: 160505", "colour: blue"), "unknown header key 'colour'");
+  expect_error(replace(kGood, "hamming: 5", "hamming: five"), "'hamming' is not an integer");
+  expect_error(replace(kGood, "count: 3", "count: 3\nstatus: partial"), "not a family");
+}
+
+TEST(FamilyIo, CppFormatListsEveryCode) {
+  const TagFamily f = parse_family(kGood, "in.fam");
+  const std::string cpp = format_family_cpp(f);
+  EXPECT_NE(cpp.find("tagmini_codes[3]"), std::string::npos);
+  for (const char* c : {"0x231bULL", "0x2ea5ULL", "0x346aULL"}) EXPECT_NE(cpp.find(c), std::string::npos) << c;
+}
+
+TEST(FamilyIo, HexParsing) {
+  EXPECT_EQ(parse_hex_code("0x1F").value(), 0x1fu);
+  EXPECT_EQ(parse_hex_code("ffffffffffffffff").value(), ~Code{0});
+  EXPECT_FALSE(parse_hex_code("1ffffffffffffffff"));
+  EXPECT_FALSE(parse_hex_code("0x"));
+  EXPECT_FALSE(parse_hex_code("12 34"));
+}

@@ -1,0 +1,111 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+
+#include "codes/families.hpp"
+#include "codes/tag_family.hpp"
+
+using namespace tagbench;
+
+namespace {
+FamilyInfo info(const std::string& name, int bits, int h) {
+  FamilyInfo i;
+  i.name = name;
+  i.bits = bits;
+  i.min_hamming = h;
+  return i;
+}
+}  // namespace
+
+TEST(TagFamily, DecodesEveryCodeInEveryRotation) {
+  const TagFamily& f = builtin_family("36h11");
+  for (std::size_t id = 0; id < f.size(); ++id)
+    for (int r = 0; r < 4; ++r) {
+      const auto d = f.decode(rotate(f.codes()[id], 6, r), 0);
+      ASSERT_TRUE(d.has_value());
+      EXPECT_EQ(d->id, static_cast<int>(id));
+      EXPECT_EQ(d->rotation, r);
+      EXPECT_EQ(d->hamming, 0);
+    }
+}
+
+TEST(TagFamily, CorrectsUpToMaxAndNoFurther) {
+  const TagFamily& f = builtin_family("36h10");
+  std::mt19937_64 rng(5);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int id = static_cast<int>(rng() % f.size()), r = static_cast<int>(rng() % 4);
+    const int errors = static_cast<int>(rng() % 5);  // 0..4 = floor((10-1)/2)
+    Code w = rotate(f.codes()[static_cast<std::size_t>(id)], 6, r);
+    std::vector<int> cells(36);
+    std::iota(cells.begin(), cells.end(), 0);
+    std::shuffle(cells.begin(), cells.end(), rng);
+    for (int e = 0; e < errors; ++e) w ^= Code{1} << cells[static_cast<std::size_t>(e)];
+    for (int k = 0; k <= 4; ++k) {
+      const auto d = f.decode(w, k);
+      if (errors <= k) {
+        ASSERT_TRUE(d.has_value()) << "errors " << errors << " max " << k;
+        EXPECT_EQ(d->id, id);
+        EXPECT_EQ(d->rotation, r);
+        EXPECT_EQ(d->hamming, errors);
+      } else {
+        // h = 10 means no other code is within 4 + 4 < 10 bits... of this one; k < errors: nothing.
+        EXPECT_FALSE(d.has_value()) << "errors " << errors << " max " << k;
+      }
+    }
+  }
+}
+
+TEST(TagFamily, BeyondHalfTheDistanceTakesTheNearest) {
+  const TagFamily& f = builtin_family("16h5");
+  // With max_corrected >= h/2 a word can be near two codes; the nearest must win.
+  std::mt19937_64 rng(9);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Code w = rng() & low_mask(16);
+    const auto d = f.decode(w, 4);
+    int best = 99;
+    for (const Code c : f.codes()) best = std::min(best, hamming_with_rotations(w, c, 4));
+    if (best <= 4) {
+      ASSERT_TRUE(d.has_value());
+      EXPECT_EQ(d->hamming, best);
+      EXPECT_EQ(hamming(w, rotate(f.codes()[static_cast<std::size_t>(d->id)], 4, d->rotation)), best);
+    } else {
+      EXPECT_FALSE(d.has_value());
+    }
+  }
+}
+
+TEST(TagFamily, RejectsBadFamilies) {
+  EXPECT_THROW(TagFamily(info("x", 20, 3), {1, 2}), std::invalid_argument);       // bits not a square
+  EXPECT_THROW(TagFamily(info("x", 81, 3), {1, 2}), std::invalid_argument);       // over 64
+  EXPECT_THROW(TagFamily(info("x", 16, 17), {1, 2}), std::invalid_argument);      // h larger than bits
+  EXPECT_THROW(TagFamily(info("x", 16, 1), {0x231b, 0x231b}), std::invalid_argument);  // duplicate
+  EXPECT_THROW(TagFamily(info("x", 16, 1), {0x1ffff}), std::invalid_argument);    // more than 16 bits
+  EXPECT_THROW(TagFamily(info("x", 16, 1), {}), std::invalid_argument);           // empty
+  // 0x231b and a rotation of it with one bit flipped are 1 apart: h = 5 must be refused.
+  EXPECT_THROW(TagFamily(info("x", 16, 5), {0x231b, rotate90(0x231b, 4) ^ 1}), std::invalid_argument);
+  // A code closer than h to its own rotation.
+  EXPECT_THROW(TagFamily(info("x", 16, 5), {0x0}), std::invalid_argument);
+}
+
+TEST(TagFamily, DistanceStatsOfAKnownFamily) {
+  const TagFamily& f = builtin_family("36h11");
+  const DistanceStats s = distance_stats(f.codes(), 6, 2);
+  EXPECT_EQ(s.min_with_rotations, 11);
+  EXPECT_GE(s.min_plain, 11);
+  std::uint64_t pairs = 0;
+  for (const auto n : s.histogram) pairs += n;
+  EXPECT_EQ(pairs, f.size() * (f.size() - 1) / 2);
+  for (int k = 0; k < 11; ++k) EXPECT_EQ(s.histogram[static_cast<std::size_t>(k)], 0u);
+}
+
+TEST(Families, RegistryKnowsAllShippedAndRivalFamilies) {
+  const auto names = builtin_family_names();
+  for (const char* n : {"16h5", "25h7", "25h9", "36h15", "artoolkitplus-simple", "artoolkitplus-bch", "artag",
+                        "artag-2046"})
+    EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
+  EXPECT_EQ(&builtin_family("tag16h5"), &builtin_family("16h5"));
+  EXPECT_THROW(builtin_family("36h99"), std::invalid_argument);
+  EXPECT_THROW(load_family("/no/such/file.fam"), std::invalid_argument);
+}
