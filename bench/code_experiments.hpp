@@ -39,7 +39,8 @@ struct FpTheoryRow {
   std::optional<double> paper_fp_percent;
   std::optional<double> paper_implied_words;  // paper % / 100 * 2^n / sum_{i<=k} C(n, i)
 };
-// 36h10 and 36h15, 0..7 bits corrected, from the real family sizes.
+// 36h10 and 36h15, 0..7 bits corrected, from the real family sizes (a family whose generator run is
+// still in progress is left out).
 std::vector<FpTheoryRow> fp_theory();
 
 std::string code_table_csv(const std::vector<CodeTableRow>& rows);

@@ -6,6 +6,8 @@
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
 #include "code_experiments.hpp"
+#include "generator_speed.hpp"
+#include "util/sysinfo.hpp"
 #include "codes/families.hpp"
 #include "util/atomic_file.hpp"
 
@@ -55,6 +57,56 @@ int cmd_codes(const Words& w) {
   write_file_atomic(dir / "codes.json", js.str());
   std::fprintf(stderr, "tagbench codes: wrote code_table.csv, fig5_hamming.csv, fp_theory.csv, codes.json in %s\n",
                dir.string().c_str());
+  return 0;
+}
+
+}  // namespace tagbench::cli
+
+namespace tagbench::cli {
+
+namespace {
+constexpr const char* kSpeedHelp = R"(usage: tagbench generator-speed [--out FILE] [--families LIST] [--threads LIST]
+
+Times the lexicode generator on small shipped families (default 16h5,25h9,25h7) at each thread
+count (default 1 and all cores), checks each output equals the shipped family, and adds the
+recorded runs of the shipped 36-bit families (from their files). Writes CSV (default
+results/generator_speed.csv).
+)";
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (const char c : s + ",") {
+    if (c == ',') {
+      if (!cur.empty()) out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  return out;
+}
+}  // namespace
+
+int cmd_generator_speed(const Words& w) {
+  if (wants_help(w, kSpeedHelp)) return 0;
+  const Args a(w, {{"out"}, {"families"}, {"threads"}});
+  if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
+  const std::filesystem::path out = a.get_or("out", "results/generator_speed.csv");
+  if (!std::filesystem::is_directory(std::filesystem::absolute(out).parent_path()))
+    throw UsageError("--out " + out.string() + ": no such directory");
+  std::vector<int> threads;
+  for (const auto& t : split(a.get_or("threads", "1," + std::to_string(hardware_threads()))))
+    threads.push_back(static_cast<int>(parse_int("--threads", t, 1, 1024)));
+  if (threads.empty()) throw UsageError("--threads: empty list");
+  const auto families = split(a.get_or("families", "16h5,25h9,25h7"));
+  for (const auto& f : families) builtin_family(f);  // unknown names fail before any timing
+  auto rows = measure_generator_speed(families, threads);
+  for (auto& r : recorded_generator_runs()) rows.push_back(std::move(r));
+  write_file_atomic(out, generator_speed_csv(rows));
+  for (const auto& r : rows)
+    if (r.source == "measured" && !r.matches_shipped)
+      throw std::runtime_error("generated " + r.family + " differs from the shipped family");
   return 0;
 }
 

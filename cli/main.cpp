@@ -16,6 +16,8 @@ Commands:
   family    list, show, check, generate tag families (family --help)
   render    write a tag as PNG (for POV-Ray) or printable SVG
   codes     the paper's code experiments: code table, Fig. 5 distances, false-positive theory
+  generator-speed
+            time the lexicode generator (results/generator_speed.csv)
 
 Run 'tagbench <command> --help' for a command's options.
 Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).
@@ -30,6 +32,7 @@ constexpr Command kCommands[] = {
     {"family", tagbench::cli::cmd_family},
     {"render", tagbench::cli::cmd_render},
     {"codes", tagbench::cli::cmd_codes},
+    {"generator-speed", tagbench::cli::cmd_generator_speed},
 };
 
 }  // namespace

@@ -17,7 +17,11 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+constexpr const char* kFirstLine =
+    "tagbench family file (codes in AprilTag 1 order: MSB = top-left payload cell, row-major, 1 = white)";
+
 struct HeaderFile {
+  std::vector<std::string> comments;  // comment lines without "#", other than the standard first line
   std::map<std::string, std::string> keys;
   std::map<std::string, int> key_line;
   std::vector<Code> codes;
@@ -34,7 +38,12 @@ HeaderFile parse_header_file(const std::string& text, const std::string& source,
     ++line_no;
     const std::string line = trim(raw);
     const auto where = [&] { return source + ":" + std::to_string(line_no) + ": "; };
-    if (line.empty() || line[0] == '#') continue;
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      const std::string c = trim(line.substr(1));
+      if (!c.empty() && c != kFirstLine) f.comments.push_back(c);
+      continue;
+    }
     const auto colon = line.find(':');
     if (colon != std::string::npos) {
       if (!f.codes.empty()) throw std::invalid_argument(where() + "header line '" + line + "' after the codes");
@@ -114,6 +123,7 @@ TagFamily parse_family(const std::string& text, const std::string& source) {
   if (f.keys.count("seed")) info.seed = get_int(f, "seed", source, true);
   if (f.keys.count("order")) info.order = f.keys.at("order");
   if (f.keys.count("generator")) info.generator = f.keys.at("generator");
+  info.records = f.comments;
   const long long count = get_int(f, "count", source, true);
   if (count != static_cast<long long>(f.codes.size()))
     throw std::invalid_argument(source + ": header says count " + std::to_string(count) + " but the file has " +
@@ -132,7 +142,8 @@ TagFamily read_family_file(const std::filesystem::path& path) {
 std::string format_family(const TagFamily& family, const std::vector<std::string>& comments) {
   const FamilyInfo& i = family.info();
   std::ostringstream o;
-  o << "# tagbench family file (codes in AprilTag 1 order: MSB = top-left payload cell, row-major, 1 = white)\n";
+  o << "# " << kFirstLine << "\n";
+  for (const auto& c : i.records) o << "# " << c << "\n";
   for (const auto& c : comments) o << "# " << c << "\n";
   o << "name: " << i.name << "\nbits: " << i.bits << "\nhamming: " << i.min_hamming
     << "\ncomplexity: " << i.min_complexity << "\n";

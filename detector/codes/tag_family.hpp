@@ -24,6 +24,7 @@ struct FamilyInfo {
   std::optional<std::int64_t> seed;  // generated families only
   std::string order;        // "prime", "lex", or "" for codebooks built from a specification
   std::string generator;    // e.g. "tagbench-lexicode 1", "spec artoolkitplus-simple"
+  std::vector<std::string> records;  // the file's "# key: ..." comment lines (generation records), kept verbatim
 };
 
 struct DecodeResult {

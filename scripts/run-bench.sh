@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# `make bench`: regenerates everything in results/ and the README's tables from it.
+# Usage: scripts/run-bench.sh [BUILD_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${1:-build}
+BIN=$BUILD/cli/tagbench
+PY=/usr/bin/python3   # Debian's python3, which has python3-matplotlib
+mkdir -p results
+
+echo "bench: code experiments (code table, Fig. 5, false-positive theory)" >&2
+"$BIN" codes --out results
+"$PY" scripts/plot_codes.py results
+
+echo "bench: lexicode generator speed" >&2
+"$BIN" generator-speed --out results/generator_speed.csv
+
+echo "bench: decoding speed (Google Benchmark)" >&2
+tmp=$(mktemp --suffix=.json)
+trap 'rm -f "$tmp"' EXIT
+"$BUILD/bench/bench_codes" --benchmark_out="$tmp" --benchmark_out_format=json --benchmark_min_time=0.3 >&2
+TAGBENCH_CPU="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')" \
+  "$PY" scripts/bench_to_csv.py "$tmp" results/decode_speed.csv
+cp "$tmp" results/decode_speed.json.tmp && mv results/decode_speed.json.tmp results/decode_speed.json
+
+"$PY" scripts/update_readme.py README.md results
+echo "bench: results/ and README.md updated" >&2

@@ -1,0 +1,106 @@
+#!/usr/bin/python3
+"""Rewrites the README's result tables from the CSVs in results/, between the markers
+<!-- BEGIN:name --> and <!-- END:name -->, so no number in the README is typed by hand.
+Usage: update_readme.py [README] [RESULTS_DIR]"""
+import csv
+import os
+import re
+import sys
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def table(header, body):
+    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    out += ["| " + " | ".join(str(c) for c in r) + " |" for r in body]
+    return "\n".join(out)
+
+
+def code_table(d):
+    body = []
+    for r in rows(os.path.join(d, "code_table.csv")):
+        ok = r["status"] == "ok"
+        body.append([r["scheme"], f'`{r["family"]}`', r["bits"] or "36",
+                     r["codes"] if ok else "(generation in progress)", r["paper_codes"] or "-",
+                     r["min_hamming_with_rotations"] if ok else "-", r["paper_min_hamming"] or "-",
+                     r["min_hamming_without_rotations"] if ok else "-", r["min_complexity"] if ok else "-"])
+    return table(["Scheme", "Family", "Bits", "Codes (ours)", "Codes (paper)", "Min. Hamming, rotations (ours)",
+                  "Min. Hamming (paper)", "Min. Hamming, no rotations", "Min. complexity"], body)
+
+
+def fp_theory(d):
+    body = []
+    for r in rows(os.path.join(d, "fp_theory.csv")):
+        ours4 = f'{float(r["fp_percent_4_rotations"]):.6f}' if r["fp_percent_4_rotations"] else "N/A"
+        ours1 = f'{float(r["fp_percent_1_rotation"]):.6f}' if r["fp_percent_1_rotation"] else "N/A"
+        body.append([r["family"], r["codes"], r["bits_corrected"], ours4, ours1, r["paper_fp_percent"],
+                     r["paper_implied_words"] or "-"])
+    return table(["Family", "Codes", "Bits corrected", "FP % (ours, 4 rotations)", "FP % (ours, 1 rotation)",
+                  "FP % (paper)", "Accepted words the paper's % implies"], body)
+
+
+def generator_speed(d):
+    body = []
+    for r in rows(os.path.join(d, "generator_speed.csv")):
+        body.append([r["family"], r["source"], r["threads"], r["candidates"], r["codes"],
+                     f'{float(r["wall_seconds"]):.1f}', f'{float(r["candidates_per_second"]):.3g}',
+                     f'{float(r["candidates_per_second_per_thread"]):.3g}', r["matches_shipped"]])
+    return table(["Family", "Source", "Threads", "Candidates", "Codes", "Wall s", "Candidates/s", "Per thread",
+                  "Equals shipped"], body)
+
+
+def decode_speed(d):
+    body = []
+    for r in rows(os.path.join(d, "decode_speed.csv")):
+        items = r.get("items_per_second") or ""
+        body.append([f'`{r["name"]}`', f'{float(r["real_time"]):.1f} {r["time_unit"]}',
+                     f'{float(items):.3g}' if items else "-", r.get("label", "")])
+    return table(["Benchmark", "Time per call", "Items/s", "Scan"], body)
+
+
+def pending(_d):
+    fam_dir = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "detector", "codes", "families")
+    ck_dir = os.path.join(fam_dir, "checkpoints")
+    lines = []
+    for name in sorted(os.listdir(ck_dir)) if os.path.isdir(ck_dir) else []:
+        if not name.endswith(".ckpt") or os.path.exists(os.path.join(fam_dir, name[:-5] + ".fam")):
+            continue
+        keys = {}
+        for line in open(os.path.join(ck_dir, name)):
+            if ":" in line and not line.startswith("#"):
+                k, v = line.split(":", 1)
+                keys[k.strip()] = v.strip()
+        done = int(keys["next_index"]) / 2 ** int(keys["bits"])
+        lines.append(f'- `{name[:-5]}`: {100 * done:.1f} % of the candidates examined, {keys["count"]} codes '
+                     f'accepted so far, {float(keys["elapsed_seconds"]) / 3600:.2f} h of generation.')
+    return "\n".join(lines) if lines else "All shipped families are complete."
+
+
+BLOCKS = {"pending": pending, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
+          "decode_speed": decode_speed}
+
+
+def main():
+    readme = sys.argv[1] if len(sys.argv) > 1 else "README.md"
+    results = sys.argv[2] if len(sys.argv) > 2 else "results"
+    text = open(readme).read()
+    for name, fn in BLOCKS.items():
+        pat = re.compile(rf"(<!-- BEGIN:{name} -->\n).*?(<!-- END:{name} -->)", re.S)
+        if not pat.search(text):
+            sys.exit(f"update_readme.py: {readme} has no block {name}")
+        try:
+            body = fn(results)
+        except FileNotFoundError as e:
+            sys.exit(f"update_readme.py: {e.filename}: missing (run make bench)")
+        text = pat.sub(lambda m: m.group(1) + body + "\n" + m.group(2), text)
+    tmp = readme + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, readme)
+
+
+if __name__ == "__main__":
+    main()
