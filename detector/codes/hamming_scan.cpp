@@ -1,5 +1,6 @@
 #include "codes/hamming_scan.hpp"
 
+#include <algorithm>
 #include <bit>
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -125,5 +126,39 @@ NearestWord nearest_within(std::span<const Code> words, Code v, int max_distance
 }
 
 const char* hamming_scan_impl() { return impl().name; }
+
+PrefixBuckets::PrefixBuckets(std::span<const Code> words, int bits, std::size_t target) {
+  while (t_ < 14 && t_ < bits && (words.size() >> (t_ + 1)) >= target) ++t_;
+  shift_ = bits - t_;
+  const std::size_t nb = std::size_t{1} << t_;
+  const auto bucket = [&](Code w) { return t_ ? static_cast<std::size_t>(w >> shift_) : std::size_t{0}; };
+  offsets_.assign(nb + 1, 0);
+  for (const Code w : words) ++offsets_[bucket(w) + 1];
+  for (std::size_t i = 0; i < nb; ++i) offsets_[i + 1] += offsets_[i];
+  sorted_.resize(words.size());
+  std::vector<std::uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
+  for (const Code w : words) sorted_[fill[bucket(w)]++] = w;
+  masks_.resize(nb);
+  for (std::size_t i = 0; i < nb; ++i) masks_[i] = static_cast<std::uint32_t>(i);
+  std::stable_sort(masks_.begin(), masks_.end(),
+                   [](std::uint32_t a, std::uint32_t b) { return std::popcount(a) < std::popcount(b); });
+  mask_pop_.resize(nb);
+  for (std::size_t i = 0; i < nb; ++i) mask_pop_[i] = static_cast<std::uint8_t>(std::popcount(masks_[i]));
+}
+
+std::optional<Code> PrefixBuckets::first_word_within(Code v, int max_distance) const {
+  if (max_distance < 0) return std::nullopt;
+  const auto q = t_ ? static_cast<std::uint32_t>(v >> shift_) : std::uint32_t{0};  // t_ = 0: one bucket
+  const auto first = impl().first;
+  for (std::size_t i = 0; i < masks_.size(); ++i) {
+    if (mask_pop_[i] > max_distance) return std::nullopt;  // the prefixes alone differ too much from here on
+    const std::uint32_t b = q ^ masks_[i];
+    const std::uint32_t lo = offsets_[b], hi = offsets_[b + 1];
+    if (lo == hi) continue;
+    const std::ptrdiff_t k = first(sorted_.data() + lo, hi - lo, v, max_distance);
+    if (k >= 0) return sorted_[lo + static_cast<std::size_t>(k)];
+  }
+  return std::nullopt;
+}
 
 }  // namespace tagbench

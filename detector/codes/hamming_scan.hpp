@@ -3,7 +3,10 @@
 // the decoder. Uses AVX-512 VPOPCNTDQ (8 words per instruction) when the CPU has it, chosen at run
 // time, else scalar popcount; both give identical answers.
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <span>
+#include <vector>
 
 #include "codes/bits.hpp"
 
@@ -19,6 +22,29 @@ struct NearestWord {
 
 // The nearest word with hamming(v, w) <= max_distance (lowest index among ties), or index -1.
 NearestWord nearest_within(std::span<const Code> words, Code v, int max_distance);
+
+// Words grouped by their top t bits, for "is any word within max_distance of v?" when most queries
+// have an answer: buckets are scanned in order of increasing prefix distance from v, where a near word
+// is far more likely (for 36h9, a word sharing v's 8-bit prefix is ~27x likelier to be within 8 bits),
+// so the early exit comes sooner; buckets whose prefix alone is farther than max_distance are skipped.
+// The answer is exactly that of first_within over all words.
+class PrefixBuckets {
+ public:
+  PrefixBuckets() = default;
+  // bits: word width; t is chosen so that buckets hold about `target` words.
+  PrefixBuckets(std::span<const Code> words, int bits, std::size_t target = 32);
+  bool any_within(Code v, int max_distance) const { return first_word_within(v, max_distance).has_value(); }
+  // A word within max_distance of v (the first found, not necessarily the nearest), if any.
+  std::optional<Code> first_word_within(Code v, int max_distance) const;
+  int prefix_bits() const { return t_; }
+
+ private:
+  int t_ = 0, shift_ = 0;
+  std::vector<Code> sorted_;
+  std::vector<std::uint32_t> offsets_;   // bucket b is sorted_[offsets_[b], offsets_[b+1])
+  std::vector<std::uint32_t> masks_;     // prefix XOR masks, by increasing popcount
+  std::vector<std::uint8_t> mask_pop_;
+};
 
 // Name of the scan implementation in use ("avx512-vpopcntdq" or "scalar"), for benchmark records.
 const char* hamming_scan_impl();

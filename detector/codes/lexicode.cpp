@@ -92,7 +92,10 @@ bool LexicodeGenerator::run(int threads, std::size_t max_codes,
     const unsigned __int128 base = state_.next_index;
 
     // Phase 1 (parallel): distance to codes accepted before the block, and the self-rotation rule.
-    const std::span<const Code> before(words_);
+    if (index_words_ != words_.size()) {  // re-bucket only when codes were added
+      index_ = PrefixBuckets(words_, params_.bits);
+      index_words_ = words_.size();
+    }
     const std::uint64_t nchunks = (n + kChunk - 1) / kChunk;
     std::vector<std::vector<Survivor>> found(nchunks);
     std::atomic<std::uint64_t> next_chunk{0};
@@ -103,7 +106,7 @@ bool LexicodeGenerator::run(int threads, std::size_t max_codes,
         const std::uint64_t lo = ci * kChunk, hi = std::min(n, lo + kChunk);
         for (std::uint64_t i = lo; i < hi; ++i) {
           const Code v = candidate(base + i);
-          if (first_within(before, v, h - 1) >= 0) continue;
+          if (index_.any_within(v, h - 1)) continue;
           if (self_rotation_distance(v, d_) < h) continue;
           found[ci].push_back({base + i, v});
         }

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "codes/bits.hpp"
+#include "codes/hamming_scan.hpp"
 
 namespace tagbench {
 
@@ -80,6 +81,8 @@ class LexicodeGenerator {
   Code mask_, v0_;
   unsigned __int128 total_;
   std::vector<Code> words_;  // all four rotations of every accepted code
+  PrefixBuckets index_;      // words_ bucketed for the phase-1 test
+  std::size_t index_words_ = 0;
 };
 
 // Convenience: the whole family, single call (used by tests and small runs).

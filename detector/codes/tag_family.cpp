@@ -47,6 +47,7 @@ TagFamily::TagFamily(FamilyInfo info, std::vector<Code> codes, bool check_distan
       exact_.emplace(r, static_cast<std::uint32_t>(4 * id + k));  // keeps the first (lowest id, rotation)
     }
   }
+  buckets_ = PrefixBuckets(words_, info_.bits);
   {
     std::vector<Code> sorted = codes_;
     std::sort(sorted.begin(), sorted.end());
@@ -75,10 +76,10 @@ std::optional<DecodeResult> TagFamily::decode(Code observed, int max_corrected) 
   if (max_corrected <= 0) return std::nullopt;
   // With max_corrected <= (h-1)/2 at most one word is within reach, so the first hit is the answer.
   if (2 * max_corrected < info_.min_hamming) {
-    const auto i = first_within(words_, observed, max_corrected);
-    if (i < 0) return std::nullopt;
-    return DecodeResult{static_cast<int>(i / 4), hamming(observed, words_[static_cast<std::size_t>(i)]),
-                        static_cast<int>(i % 4)};
+    const auto w = buckets_.first_word_within(observed, max_corrected);
+    if (!w) return std::nullopt;
+    const std::uint32_t e = exact_.at(*w);
+    return DecodeResult{static_cast<int>(e / 4), hamming(observed, *w), static_cast<int>(e % 4)};
   }
   const NearestWord n = nearest_within(words_, observed, max_corrected);
   if (n.index < 0) return std::nullopt;

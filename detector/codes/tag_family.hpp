@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "codes/bits.hpp"
+#include "codes/hamming_scan.hpp"
 
 namespace tagbench {
 
@@ -61,6 +62,7 @@ class TagFamily {
   std::vector<Code> codes_;
   std::vector<Code> words_;
   std::unordered_map<Code, std::uint32_t> exact_;  // word -> 4*id + r, for the zero-error fast path
+  PrefixBuckets buckets_;                          // words_ bucketed for the few-errors path
 };
 
 // Distance statistics of a codebook (Fig. 5 and `family stats`).

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "codes/bits.hpp"
 #include "codes/complexity.hpp"
 #include "codes/family_io.hpp"
+#include "codes/hamming_scan.hpp"
 #include "codes/java_random.hpp"
 #include "codes/lexicode.hpp"
 
@@ -161,4 +163,25 @@ TEST(Lexicode, RejectsBadParameters) {
 TEST(Lexicode, Checksum25h7) {
   // Computed once from our run (which matches the published count and first codes).
   EXPECT_EQ(fnv(generate_lexicode(params(25, 7), 2)), 0xc85433ef50d9129bULL);
+}
+
+TEST(PrefixBuckets, AgreesWithALinearScan) {
+  std::mt19937_64 rng(11);
+  for (const std::size_t n : {0u, 1u, 40u, 5000u}) {
+    std::vector<Code> words(n);
+    for (auto& w : words) w = rng() & low_mask(36);
+    const PrefixBuckets idx(words, 36, 8);
+    if (n == 5000) {
+      EXPECT_GT(idx.prefix_bits(), 5);
+    }
+    for (int i = 0; i < 3000; ++i) {
+      const Code v = rng() & low_mask(36);
+      const int maxd = static_cast<int>(rng() % 12);
+      ASSERT_EQ(idx.any_within(v, maxd), first_within(words, v, maxd) >= 0) << n << " " << maxd;
+    }
+  }
+  // 64-bit words (a shift by 64 would be undefined): the single-bucket and bucketed paths.
+  std::vector<Code> w64 = {~Code{0}, 0x8000000000000001ULL};
+  EXPECT_TRUE(PrefixBuckets(w64, 64).any_within(0x8000000000000000ULL, 1));
+  EXPECT_FALSE(PrefixBuckets(w64, 64).any_within(0x00000000ffff0000ULL, 3));
 }

@@ -32,26 +32,29 @@ TEST(TagFamily, DecodesEveryCodeInEveryRotation) {
 }
 
 TEST(TagFamily, CorrectsUpToMaxAndNoFurther) {
-  const TagFamily& f = builtin_family("36h10");
-  std::mt19937_64 rng(5);
-  for (int trial = 0; trial < 300; ++trial) {
-    const int id = static_cast<int>(rng() % f.size()), r = static_cast<int>(rng() % 4);
-    const int errors = static_cast<int>(rng() % 5);  // 0..4 = floor((10-1)/2)
-    Code w = rotate(f.codes()[static_cast<std::size_t>(id)], 6, r);
-    std::vector<int> cells(36);
-    std::iota(cells.begin(), cells.end(), 0);
-    std::shuffle(cells.begin(), cells.end(), rng);
-    for (int e = 0; e < errors; ++e) w ^= Code{1} << cells[static_cast<std::size_t>(e)];
-    for (int k = 0; k <= 4; ++k) {
-      const auto d = f.decode(w, k);
-      if (errors <= k) {
-        ASSERT_TRUE(d.has_value()) << "errors " << errors << " max " << k;
-        EXPECT_EQ(d->id, id);
-        EXPECT_EQ(d->rotation, r);
-        EXPECT_EQ(d->hamming, errors);
-      } else {
-        // h = 10 means no other code is within 4 + 4 < 10 bits... of this one; k < errors: nothing.
-        EXPECT_FALSE(d.has_value()) << "errors " << errors << " max " << k;
+  for (const char* name : {"25h7", "36h15", "36h10"}) {
+    const TagFamily& f = builtin_family(name);
+    const int d = f.payload_width(), n = f.bits(), t = (f.min_hamming() - 1) / 2;
+    std::mt19937_64 rng(5);
+    for (int trial = 0; trial < 300; ++trial) {
+      const int id = static_cast<int>(rng() % f.size()), r = static_cast<int>(rng() % 4);
+      const int errors = static_cast<int>(rng() % static_cast<unsigned>(t + 1));
+      Code w = rotate(f.codes()[static_cast<std::size_t>(id)], d, r);
+      std::vector<int> cells(static_cast<std::size_t>(n));
+      std::iota(cells.begin(), cells.end(), 0);
+      std::shuffle(cells.begin(), cells.end(), rng);
+      for (int e = 0; e < errors; ++e) w ^= Code{1} << cells[static_cast<std::size_t>(e)];
+      for (int k = 0; k <= t; ++k) {
+        const auto dec = f.decode(w, k);
+        if (errors <= k) {
+          ASSERT_TRUE(dec.has_value()) << name << " errors " << errors << " max " << k;
+          EXPECT_EQ(dec->id, id);
+          EXPECT_EQ(dec->rotation, r);
+          EXPECT_EQ(dec->hamming, errors);
+        } else {
+          // Every other code is at least h - errors > t >= k away, so nothing is within k.
+          EXPECT_FALSE(dec.has_value()) << name << " errors " << errors << " max " << k;
+        }
       }
     }
   }

@@ -1,0 +1,112 @@
+#include "detect/blur.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+namespace tagbench {
+namespace {
+
+// Correlates every row of src with kernel k (taps for offsets first..first+k.size()-1), sampling
+// src at x = step * X + offset for output X in [0, out_w), with clamped borders. step = 1 is a plain
+// horizontal blur, step = 2 the decimating pass of blur_and_halve.
+ImageF filter_rows(const ImageF& src, const std::vector<float>& k, int first, int step, int out_w) {
+  ImageF out(out_w, src.height);
+  const int taps = static_cast<int>(k.size());
+  const int w = src.width;
+  // Output columns whose taps all fall inside the row need no clamping: X in [x_lo, x_hi).
+  const int x_lo = std::min(out_w, std::max(0, (-first + step - 1) / step));
+  const int x_hi = std::max(x_lo, std::min(out_w, (w - (first + taps - 1) + step - 1) / step));
+  for (int y = 0; y < src.height; ++y) {
+    const float* row = &src.data[src.index(0, y)];
+    float* dst = &out.data[out.index(0, y)];
+    auto clamped = [&](int X) {
+      float s = 0.0f;
+      for (int t = 0; t < taps; ++t) s += k[t] * row[std::clamp(step * X + first + t, 0, w - 1)];
+      return s;
+    };
+    for (int X = 0; X < x_lo; ++X) dst[X] = clamped(X);
+    for (int X = x_lo; X < x_hi; ++X) {
+      const float* p = row + step * X + first;
+      float s = 0.0f;
+      for (int t = 0; t < taps; ++t) s += k[t] * p[t];
+      dst[X] = s;
+    }
+    for (int X = x_hi; X < out_w; ++X) dst[X] = clamped(X);
+  }
+  return out;
+}
+
+// The vertical counterpart: output row Y combines source rows step * Y + first + t (clamped).
+// Works on whole rows at a time so the inner loop runs along contiguous memory.
+ImageF filter_cols(const ImageF& src, const std::vector<float>& k, int first, int step, int out_h) {
+  ImageF out(src.width, out_h);
+  const int taps = static_cast<int>(k.size());
+  const std::size_t w = static_cast<std::size_t>(src.width);
+  for (int Y = 0; Y < out_h; ++Y) {
+    float* dst = &out.data[out.index(0, Y)];
+    for (int t = 0; t < taps; ++t) {
+      const int sy = std::clamp(step * Y + first + t, 0, src.height - 1);
+      const float* row = &src.data[src.index(0, sy)];
+      const float kt = k[t];
+      for (std::size_t x = 0; x < w; ++x) dst[x] += kt * row[x];
+    }
+  }
+  return out;
+}
+
+// The Gaussian convolved with the 2-tap box [1/2, 1/2]: offsets -r..r+1 relative to 2X.
+std::vector<float> box_folded_kernel(const std::vector<float>& g) {
+  std::vector<float> c(g.size() + 1, 0.0f);
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    c[i] += 0.5f * g[i];
+    c[i + 1] += 0.5f * g[i];
+  }
+  return c;
+}
+
+}  // namespace
+
+int gaussian_radius(double sigma) { return sigma > 0.0 ? static_cast<int>(std::ceil(3.0 * sigma)) : 0; }
+
+std::vector<float> gaussian_kernel(double sigma) {
+  const int r = gaussian_radius(sigma);
+  if (r == 0) return {1.0f};
+  std::vector<double> g(static_cast<std::size_t>(2 * r + 1));
+  double sum = 0.0;
+  for (int i = -r; i <= r; ++i) sum += g[static_cast<std::size_t>(i + r)] = std::exp(-0.5 * i * i / (sigma * sigma));
+  std::vector<float> k(g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) k[i] = static_cast<float>(g[i] / sum);
+  return k;
+}
+
+ImageF gaussian_blur(const ImageF& img, double sigma) {
+  if (sigma <= 0.0 || img.empty()) return img;
+  const std::vector<float> k = gaussian_kernel(sigma);
+  const int r = gaussian_radius(sigma);
+  return filter_cols(filter_rows(img, k, -r, 1, img.width), k, -r, 1, img.height);
+}
+
+ImageF half_resolution(const ImageF& img) {
+  ImageF out(img.width / 2, img.height / 2);
+  if (out.empty()) return out;
+  for (int Y = 0; Y < out.height; ++Y) {
+    const float* a = &img.data[img.index(0, 2 * Y)];
+    const float* b = &img.data[img.index(0, 2 * Y + 1)];
+    float* dst = &out.data[out.index(0, Y)];
+    for (int X = 0; X < out.width; ++X)
+      dst[X] = 0.25f * (a[2 * X] + a[2 * X + 1] + b[2 * X] + b[2 * X + 1]);
+  }
+  return out;
+}
+
+ImageF blur_and_halve(const ImageF& img, double sigma) {
+  if (sigma <= 0.0 || img.width < 2 || img.height < 2) return half_resolution(img);
+  const int r = gaussian_radius(sigma);
+  const std::vector<float> c = box_folded_kernel(gaussian_kernel(sigma));
+  // Decimate along x while filtering the rows, then along y while filtering the columns.
+  const ImageF rows = filter_rows(img, c, -r, 2, img.width / 2);
+  return filter_cols(rows, c, -r, 2, img.height / 2);
+}
+
+}  // namespace tagbench

@@ -1,0 +1,35 @@
+#pragma once
+// Homography by the normalised Direct Linear Transform (paper section III-C; Hartley & Zisserman).
+//
+// A homography H maps plane points to image points in homogeneous coordinates: p_img ~ H [x y 1]^T.
+// For a tag, the plane is the tag's own frame scaled so that the black square is [-1, 1]^2: x toward
+// the tag's right edge, y toward its bottom edge (as printed), so the corners are
+// top-left (-1,-1), top-right (1,-1), bottom-right (1,1), bottom-left (-1,1). Image points use pixel
+// centres at integer coordinates (OpenCV's convention).
+#include <array>
+#include <optional>
+#include <span>
+
+#include <Eigen/Core>
+
+namespace tagbench {
+
+using Corners = std::array<Eigen::Vector2d, 4>;  // top-left, top-right, bottom-right, bottom-left
+
+// The homography taking from[i] to to[i] (at least 4 pairs, no 3 of the first 4 collinear) by the
+// normalised DLT: each point set is shifted to its centroid and scaled to mean distance sqrt(2),
+// the null vector of the 2N x 9 system is found by SVD, then the scaling is undone. H is scaled so
+// that its Frobenius norm is 1 and H(2,2) >= 0. nullopt when the points are degenerate.
+std::optional<Eigen::Matrix3d> homography_dlt(std::span<const Eigen::Vector2d> from,
+                                              std::span<const Eigen::Vector2d> to);
+
+// The tag homography: the square [-1,1]^2 (corners as above) onto the four image corners.
+std::optional<Eigen::Matrix3d> tag_homography(const Corners& image_corners);
+
+// H applied to a point, with the homogeneous division.
+Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d& p);
+
+// The unit-square corners in the order above.
+const Corners& tag_square_corners();
+
+}  // namespace tagbench

@@ -1,0 +1,45 @@
+#pragma once
+// Reading the payload (paper section IV): sample every cell centre through the homography and
+// threshold it against a spatially varying threshold learnt from the tag's border.
+//
+// Tag coordinates: the black square is [-1, 1]^2 (homography.hpp), so a cell is 2/(d+2) wide and
+// grid cell g in 0..d+3 (0 = outer white ring, 1 = black ring, 2..d+1 = payload) has its centre at
+// -1 + (g - 0.5) * 2/(d+2). The white ring's and the black ring's cells train two intensity models
+//   I(x, y) = A x + B y + C x y + D      (the paper's equation (4), fit by least squares in tag coordinates;
+//                                         with fewer than 6 samples a constant)
+// and a payload cell is white (1) when its intensity exceeds the mean of the two models there.
+// Intensities are bilinear samples of the decoding image (pixel centres at integer coordinates).
+// The bits come out in AprilTag 1 order as seen through the quad: the MSB is the cell nearest the
+// quad's first corner; the decoder's rotation then says which corner is the printed top-left.
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "codes/bits.hpp"
+#include "detect/image.hpp"
+
+namespace tagbench {
+
+struct PayloadOptions {
+  double min_contrast = 0.02;  // white minus black model at the tag centre, on [0, 1] intensities
+};
+
+struct PayloadReading {
+  Code bits = 0;
+  double margin = 0;    // min over payload cells of |I - threshold| / ((white - black) / 2), in [0, 1]
+  double contrast = 0;  // white model minus black model at the tag centre
+  // The sample points in image coordinates (for the debug pictures of the paper's Fig. 4).
+  std::vector<Eigen::Vector2d> white_points, black_points, payload_points;
+};
+
+// Bilinear intensity at a sub-pixel point; nullopt outside [0, w-1] x [0, h-1].
+std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vector2d& p);
+
+// Reads a d x d payload through the homography H (tag square [-1,1]^2 -> image). nullopt when a
+// payload cell falls outside the image, when the border gives no usable model, or when the black
+// border is not darker than the white one by min_contrast.
+std::optional<PayloadReading> read_payload(const ImageF& img, const Eigen::Matrix3d& H, int d,
+                                           const PayloadOptions& opt = {}, bool keep_points = false);
+
+}  // namespace tagbench

@@ -1,0 +1,50 @@
+#pragma once
+// Supersampled renderings of tags seen through a known homography, for the detector tests.
+#include <Eigen/Dense>
+
+#include "codes/tag_layout.hpp"
+#include "detect/homography.hpp"
+#include "detect/image.hpp"
+
+namespace tagbench::synth {
+
+// Renders the tag (white ring, black ring, payload) whose black square [-1,1]^2 maps to the image
+// through H, over a background; each pixel averages ss x ss sub-samples of its area (pixel centres
+// at integer coordinates). Intensities: white 1, black 0 (then scaled into [black, white]).
+inline ImageF render_tag(int w, int h, const TagCells& cells, const Eigen::Matrix3d& H, float background = 0.5f,
+                         int ss = 8, float black = 0.05f, float white = 0.95f) {
+  const Eigen::Matrix3d Hinv = H.inverse();
+  const int d = cells.n - 4;
+  const double cell = 2.0 / (d + 2);
+  ImageF img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      double acc = 0;
+      for (int j = 0; j < ss; ++j)
+        for (int i = 0; i < ss; ++i) {
+          const Eigen::Vector3d q = Hinv * Eigen::Vector3d(x - 0.5 + (i + 0.5) / ss, y - 0.5 + (j + 0.5) / ss, 1.0);
+          if (q.z() == 0) { acc += background; continue; }
+          const double tx = q.x() / q.z(), ty = q.y() / q.z();
+          const int gx = static_cast<int>(std::floor((tx + 1) / cell)) + 1;
+          const int gy = static_cast<int>(std::floor((ty + 1) / cell)) + 1;
+          if (gx < 0 || gy < 0 || gx >= cells.n || gy >= cells.n) { acc += background; continue; }
+          acc += cells.at(gy, gx) ? white : black;
+        }
+      img.at(x, y) = static_cast<float>(acc / (ss * ss));
+    }
+  return img;
+}
+
+// The homography of a tag whose black square has the given image corners (TL, TR, BR, BL).
+inline Eigen::Matrix3d homography_for(const Corners& c) { return *tag_homography(c); }
+
+// Corners of an upright square of side `side` centred at (cx, cy), rotated by phi (radians, clockwise on screen),
+// in the order top-left, top-right, bottom-right, bottom-left of the printed tag.
+inline Corners square_tag_corners(double cx, double cy, double side, double phi) {
+  const Eigen::Vector2d u(std::cos(phi), std::sin(phi)), v(-std::sin(phi), std::cos(phi));
+  const Eigen::Vector2d c(cx, cy);
+  const double a = side / 2;
+  return {c - a * u - a * v, c + a * u - a * v, c + a * u + a * v, c - a * u + a * v};
+}
+
+}  // namespace tagbench::synth

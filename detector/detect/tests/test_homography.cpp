@@ -1,0 +1,53 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "detect/homography.hpp"
+
+using namespace tagbench;
+
+TEST(Homography, RoundTripOfAKnownHomography) {
+  Eigen::Matrix3d H;
+  H << 120, 15, 320, -10, 110, 240, 0.05, -0.03, 1;
+  std::vector<Eigen::Vector2d> from, to;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 12; ++i) {
+    from.emplace_back(u(rng), u(rng));
+    to.push_back(apply_homography(H, from.back()));
+  }
+  for (const std::size_t n : {4u, 12u}) {
+    const auto E = homography_dlt(std::span(from).first(n), std::span(to).first(n));
+    ASSERT_TRUE(E.has_value());
+    for (std::size_t i = 0; i < from.size(); ++i)
+      EXPECT_LT((apply_homography(*E, from[i]) - to[i]).norm(), 1e-8) << n << " points";
+    EXPECT_NEAR(E->norm(), 1.0, 1e-12);
+    EXPECT_NEAR((*E / (*E)(2, 2) - H).norm(), 0, 1e-6);
+  }
+}
+
+TEST(Homography, TagSquareCornersMapToTheImageCorners) {
+  const Corners img = {Eigen::Vector2d(100.25, 50.5), Eigen::Vector2d(180, 60), Eigen::Vector2d(175, 140),
+                       Eigen::Vector2d(95, 130)};
+  const auto H = tag_homography(img);
+  ASSERT_TRUE(H.has_value());
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_LT((apply_homography(*H, tag_square_corners()[i]) - img[i]).norm(), 1e-9);
+  // The tag centre goes to the intersection of the diagonals.
+  const Eigen::Vector2d c = apply_homography(*H, Eigen::Vector2d(0, 0));
+  const Eigen::Vector2d d1 = img[2] - img[0], d2 = img[3] - img[1];
+  Eigen::Matrix2d A;
+  A << d1, -d2;
+  const Eigen::Vector2d st = A.colPivHouseholderQr().solve(img[1] - img[0]);
+  EXPECT_LT((c - (img[0] + st(0) * d1)).norm(), 1e-9);
+}
+
+TEST(Homography, DegenerateInputIsRefused) {
+  const Corners collinear = {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(2, 2), Eigen::Vector2d(3, 3)};
+  EXPECT_FALSE(tag_homography(collinear).has_value());
+  const Corners same = {Eigen::Vector2d(5, 5), Eigen::Vector2d(5, 5), Eigen::Vector2d(5, 5), Eigen::Vector2d(5, 5)};
+  EXPECT_FALSE(tag_homography(same).has_value());
+  std::vector<Eigen::Vector2d> three(3, Eigen::Vector2d(1, 2));
+  EXPECT_FALSE(homography_dlt(three, three).has_value());
+}
