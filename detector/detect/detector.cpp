@@ -1,0 +1,190 @@
+#include "detect/detector.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+#include "codes/families.hpp"
+#include "detect/blur.hpp"
+#include "detect/gradient.hpp"
+#include "detect/homography.hpp"
+
+namespace tagbench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point& t) {
+  const auto now = Clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - t).count();
+  t = now;
+  return ms;
+}
+
+double perimeter(const Corners& c) {
+  double p = 0;
+  for (int i = 0; i < 4; ++i) p += (c[static_cast<std::size_t>((i + 1) % 4)] - c[static_cast<std::size_t>(i)]).norm();
+  return p;
+}
+
+Corners undistort(const Corners& c, const CameraIntrinsics& K, const std::array<double, 5>& dist) {
+  std::vector<cv::Point2d> in, out;
+  for (const auto& p : c) in.emplace_back(p.x(), p.y());
+  const cv::Matx33d Km(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1);
+  const cv::Matx<double, 1, 5> D(dist[0], dist[1], dist[2], dist[3], dist[4]);
+  cv::undistortPoints(in, out, Km, D, cv::noArray(), Km);  // P = K keeps pixel units
+  Corners r;
+  for (std::size_t i = 0; i < 4; ++i) r[i] = Eigen::Vector2d(out[i].x, out[i].y);
+  return r;
+}
+
+}  // namespace
+
+Detector::Detector(DetectorOptions options) : opt_(std::move(options)) {
+  if (opt_.families.empty()) throw std::invalid_argument("no tag family given");
+  for (const auto& f : opt_.families) families_.push_back(load_family(f));
+  if (opt_.max_hamming < 0 || opt_.max_hamming > 16)
+    throw std::invalid_argument("max hamming " + std::to_string(opt_.max_hamming) + " is outside 0..16");
+  if (!(opt_.seg_sigma >= 0) || !(opt_.decode_sigma >= 0) || !std::isfinite(opt_.seg_sigma) ||
+      !std::isfinite(opt_.decode_sigma))
+    throw std::invalid_argument("blur sigma must be finite and >= 0");
+  if (opt_.camera && !opt_.camera->valid())
+    throw std::invalid_argument("camera intrinsics must be finite with fx, fy > 0");
+  if (opt_.camera && !(opt_.tag_size > 0 && std::isfinite(opt_.tag_size)))
+    throw std::invalid_argument("tag size must be > 0 (metres) when intrinsics are given");
+  if (opt_.distortion) {
+    if (!opt_.camera) throw std::invalid_argument("distortion needs camera intrinsics");
+    for (const double k : *opt_.distortion)
+      if (!std::isfinite(k)) throw std::invalid_argument("distortion coefficients must be finite");
+  }
+}
+
+std::vector<Detection> Detector::detect(const cv::Mat& image, DetectorTrace* trace) const {
+  if (image.empty() || image.cols < 1 || image.rows < 1) throw std::invalid_argument("empty image");
+  if (static_cast<long long>(image.cols) * image.rows > opt_.max_pixels)
+    throw std::invalid_argument("image " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                                " is over the memory limit of " + std::to_string(opt_.max_pixels) + " pixels");
+  return detect(to_float_image(image), trace);
+}
+
+std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace) const {
+  if (gray.empty()) throw std::invalid_argument("empty image");
+  if (static_cast<long long>(gray.width) * gray.height > opt_.max_pixels)
+    throw std::invalid_argument("image " + std::to_string(gray.width) + "x" + std::to_string(gray.height) +
+                                " is over the memory limit of " + std::to_string(opt_.max_pixels) + " pixels");
+  StageTimings tm;
+  const auto t_start = Clock::now();
+  auto t = t_start;
+
+  // 1. Blur (and halve) for segmentation; the decoding image is separate.
+  const bool halve = opt_.half_resolution && gray.width >= 4 && gray.height >= 4;
+  const ImageF seg_in = halve ? blur_and_halve(gray, opt_.seg_sigma) : gaussian_blur(gray, opt_.seg_sigma);
+  const ImageF dec_in = opt_.decode_sigma > 0 ? gaussian_blur(gray, opt_.decode_sigma) : ImageF();
+  const ImageF& decode_image = opt_.decode_sigma > 0 ? dec_in : gray;
+  tm.blur = ms_since(t);
+
+  // 2. Gradients; 3. clusters; 4. segments.
+  const Gradients g = compute_gradients(seg_in, opt_.segmentation.min_mag);
+  tm.gradient = ms_since(t);
+  Clusters clusters = segment_clusters(g, opt_.segmentation);
+  tm.segmentation = ms_since(t);
+  std::vector<Segment> segments = fit_segments(clusters, opt_.line_fit);
+  if (halve)
+    for (auto& s : segments) s = segment_full_from_half(s);
+  tm.line_fit = ms_since(t);
+
+  // 5. Quads.
+  std::vector<Quad> quads = find_quads(segments, opt_.quad_search);
+  tm.quads = ms_since(t);
+
+  // 6. Payloads, decoded against every family (one reading per payload width).
+  std::vector<Detection> found;
+  for (const Quad& q : quads) {
+    const auto H = tag_homography(q.corners);
+    if (!H) continue;
+    std::map<int, std::optional<PayloadReading>> by_width;
+    Detection best;
+    bool have = false;
+    for (const TagFamily& f : families_) {
+      const int d = f.payload_width();
+      auto it = by_width.find(d);
+      if (it == by_width.end()) it = by_width.emplace(d, read_payload(decode_image, *H, d, opt_.payload, trace != nullptr)).first;
+      if (!it->second) continue;
+      const auto dec = f.decode(it->second->bits, opt_.max_hamming);
+      if (!dec || (have && dec->hamming >= best.hamming)) continue;
+      have = true;
+      best.family = f.name();
+      best.id = dec->id;
+      best.hamming = dec->hamming;
+      best.rotation = dec->rotation;
+      best.decision_margin = it->second->margin;
+    }
+    if (trace)
+      for (auto& [d, r] : by_width)
+        if (r) trace->readings.push_back(*r);
+    if (!have) continue;
+    // The printed top-left corner is quad corner `rotation` (observed = rotate90^r(code)).
+    for (int i = 0; i < 4; ++i)
+      best.corners[static_cast<std::size_t>(i)] = q.corners[static_cast<std::size_t>((i + best.rotation) % 4)];
+    best.homography = *tag_homography(best.corners);
+    best.center = apply_homography(best.homography, Eigen::Vector2d::Zero());
+    best.observed_perimeter = q.observed_perimeter;
+    found.push_back(std::move(best));
+  }
+
+  // Duplicates: same family and id, centres closer than 1/16 of the two quads' summed perimeters;
+  // keep the lower hamming, then the longer observed perimeter (NOTES).
+  std::vector<Detection> out;
+  for (auto& d : found) {
+    bool replaced = false, dropped = false;
+    for (auto& o : out) {
+      if (o.family != d.family || o.id != d.id) continue;
+      if ((o.center - d.center).norm() >= (perimeter(o.corners) + perimeter(d.corners)) / 16) continue;
+      const bool better = d.hamming < o.hamming || (d.hamming == o.hamming && d.observed_perimeter > o.observed_perimeter);
+      if (better && !replaced) {
+        o = d;
+        replaced = true;
+      } else {
+        dropped = true;
+      }
+      break;
+    }
+    if (!replaced && !dropped) out.push_back(std::move(d));
+  }
+  tm.decode = ms_since(t);
+
+  // 7. Poses.
+  if (opt_.camera) {
+    for (auto& d : out) {
+      const Corners c = opt_.distortion ? undistort(d.corners, *opt_.camera, *opt_.distortion) : d.corners;
+      if (opt_.refine_pose) {
+        const auto sols = tag_pose_solutions(c, *opt_.camera, opt_.tag_size);
+        if (!sols.empty()) d.pose = sols[0];
+        if (sols.size() > 1) d.pose_alternative = sols[1];
+      } else if (const auto H = tag_homography(c)) {
+        const Pose p = pose_from_homography(*H, *opt_.camera, opt_.tag_size);
+        d.pose = PoseSolution{p, corner_rms_error(p, c, *opt_.camera, opt_.tag_size)};
+      }
+    }
+  }
+  tm.pose = ms_since(t);
+  tm.total = std::chrono::duration<double, std::milli>(Clock::now() - t_start).count();
+  for (auto& d : out) d.timings = tm;
+
+  if (trace) {
+    trace->segmentation_input = seg_in;
+    trace->gradient_magnitude = ImageF(g.width, g.height);
+    trace->gradient_direction = ImageF(g.width, g.height);
+    trace->gradient_magnitude.data.assign(g.mag.begin(), g.mag.end());
+    trace->gradient_direction.data.assign(g.theta.begin(), g.theta.end());
+    trace->clusters = std::move(clusters);
+    trace->segments = std::move(segments);
+    trace->quads = std::move(quads);
+  }
+  return out;
+}
+
+}  // namespace tagbench

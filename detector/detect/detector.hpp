@@ -1,0 +1,96 @@
+#pragma once
+// The paper's detector (sections III and IV) as one object: image -> gradients -> clusters ->
+// segments -> quads -> decoded tags -> poses. Every stage is its own unit (blur, gradient,
+// segmentation, line_fit, quad_search, homography, payload_decode, pose); this file only wires them.
+//
+// Conventions: pixel centres at integer coordinates; camera frame x right, y down, z forward; tag
+// frame origin at the centre, x toward the printed right edge, y toward the bottom edge, z into the
+// tag; pose (R, t) maps tag points into the camera frame (metres); tag size = the black square's
+// edge; corners are the black square's outer corners in the order top-left, top-right,
+// bottom-right, bottom-left of the printed tag.
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "codes/tag_family.hpp"
+#include "detect/image.hpp"
+#include "detect/line_fit.hpp"
+#include "detect/payload_decode.hpp"
+#include "detect/pose.hpp"
+#include "detect/quad_search.hpp"
+#include "detect/segmentation.hpp"
+
+namespace cv {
+class Mat;
+}
+
+namespace tagbench {
+
+struct DetectorOptions {
+  std::vector<std::string> families = {"36h11"};  // built-in names or family files
+  int max_hamming = 1;           // bits corrected at most (NOTES default)
+  double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
+  double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
+  bool half_resolution = false;  // segment at half resolution (the paper's "4x faster" option)
+  SegmentationOptions segmentation;  // K_D, K_M, minMag, ...
+  LineFitOptions line_fit;
+  QuadSearchOptions quad_search;
+  PayloadOptions payload;
+  // Pose: given intrinsics (pixels) and the tag size (metres, > 0).
+  std::optional<CameraIntrinsics> camera;
+  std::optional<std::array<double, 5>> distortion;  // OpenCV's k1, k2, p1, p2, k3; corners are undistorted first
+  double tag_size = 0;
+  bool refine_pose = true;  // beyond the paper: minimise the corners' reprojection error, both ambiguity solutions
+  // Memory limit: images with more pixels are refused (about 60 bytes a pixel are needed at peak).
+  long long max_pixels = 100'000'000;
+};
+
+struct StageTimings {  // milliseconds, for the whole frame
+  double blur = 0, gradient = 0, segmentation = 0, line_fit = 0, quads = 0, decode = 0, pose = 0, total = 0;
+};
+
+struct Detection {
+  std::string family;
+  int id = -1, hamming = 0, rotation = 0;
+  Corners corners;                   // printed order TL, TR, BR, BL; pixels, as observed (distorted image)
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  Eigen::Matrix3d homography = Eigen::Matrix3d::Identity();  // tag square [-1,1]^2 (printed axes) -> image
+  double decision_margin = 0;        // payload_decode.hpp: 0 = a bit on its threshold, 1 = every bit clear
+  double observed_perimeter = 0;     // px, the four fitted segments' lengths
+  std::optional<PoseSolution> pose;              // best pose, when camera and tag size are given
+  std::optional<PoseSolution> pose_alternative;  // the planar ambiguity's other solution, if any
+  StageTimings timings;              // of the frame this detection came from
+};
+
+// Intermediate results for the paper's Fig. 3 and Fig. 4 pictures (tagbench detect --debug-dir).
+struct DetectorTrace {
+  ImageF segmentation_input;  // blurred (and halved) image the gradients came from
+  ImageF gradient_magnitude, gradient_direction;
+  Clusters clusters;
+  std::vector<Segment> segments;  // in full-resolution coordinates
+  std::vector<Quad> quads;
+  std::vector<PayloadReading> readings;  // one per quad that could be sampled
+};
+
+class Detector {
+ public:
+  explicit Detector(DetectorOptions options);  // throws std::invalid_argument on bad options or families
+
+  // Detects tags in an 8-bit or 16-bit, gray or colour image. Const and thread-safe: any number of
+  // threads may call it at once. Throws std::invalid_argument for an empty or too large image.
+  std::vector<Detection> detect(const cv::Mat& image, DetectorTrace* trace = nullptr) const;
+  std::vector<Detection> detect(const ImageF& gray, DetectorTrace* trace = nullptr) const;
+
+  const DetectorOptions& options() const { return opt_; }
+  const std::vector<TagFamily>& families() const { return families_; }
+
+ private:
+  DetectorOptions opt_;
+  std::vector<TagFamily> families_;
+};
+
+}  // namespace tagbench
