@@ -15,6 +15,7 @@ constexpr const char* kHelp = R"(usage: tagbench <command> [options]
 Commands:
   family    list, show, check, generate tag families (family --help)
   render    write a tag as PNG (for POV-Ray) or printable SVG
+  detect    detect tags in images, directories and videos (JSON or CSV; --draw, --debug-dir)
   codes     the paper's code experiments: code table, Fig. 5 distances, false-positive theory
   generator-speed
             time the lexicode generator (results/generator_speed.csv)
@@ -31,6 +32,7 @@ struct Command {
 constexpr Command kCommands[] = {
     {"family", tagbench::cli::cmd_family},
     {"render", tagbench::cli::cmd_render},
+    {"detect", tagbench::cli::cmd_detect},
     {"codes", tagbench::cli::cmd_codes},
     {"generator-speed", tagbench::cli::cmd_generator_speed},
 };

@@ -23,5 +23,11 @@ TAGBENCH_CPU="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ */
   "$PY" scripts/bench_to_csv.py "$tmp" results/decode_speed.csv
 cp "$tmp" results/decode_speed.json.tmp && mv results/decode_speed.json.tmp results/decode_speed.json
 
+echo "bench: detector speed beside libapriltag and OpenCV aruco (Google Benchmark)" >&2
+"$BUILD/bench/bench_detector" --benchmark_out="$tmp" --benchmark_out_format=json --benchmark_min_time=0.5 >&2
+TAGBENCH_CPU="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')" \
+  "$PY" scripts/speed_to_csv.py "$tmp" results/speed.csv
+cp "$tmp" results/speed.json.tmp && mv results/speed.json.tmp results/speed.json
+
 "$PY" scripts/update_readme.py README.md results
 echo "bench: results/ and README.md updated" >&2

@@ -79,7 +79,17 @@ def pending(_d):
     return "\n".join(lines) if lines else "All shipped families are complete."
 
 
-BLOCKS = {"pending": pending, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
+def speed(d):
+    body = []
+    for r in rows(os.path.join(d, "speed.csv")):
+        ratio = f'{float(r["ratio_to_libapriltag"]):.2f}' if r["ratio_to_libapriltag"] else "-"
+        body.append([r["detector"], r["mode"], f'{r["width"]}x{r["height"]}', f'{float(r["ms_per_frame"]):.2f}',
+                     r["detections"], ratio])
+    return table(["Detector", "Mode", "Image", "ms/frame (1 thread)", "Tags found (of 6)",
+                  "Ours / libapriltag"], body)
+
+
+BLOCKS = {"pending": pending, "speed": speed, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed}
 
 

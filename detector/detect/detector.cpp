@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <stdexcept>
 
 #include <opencv2/calib3d.hpp>
@@ -62,15 +61,15 @@ Detector::Detector(DetectorOptions options) : opt_(std::move(options)) {
   }
 }
 
-std::vector<Detection> Detector::detect(const cv::Mat& image, DetectorTrace* trace) const {
+std::vector<Detection> Detector::detect(const cv::Mat& image, DetectorTrace* trace, StageTimings* timings) const {
   if (image.empty() || image.cols < 1 || image.rows < 1) throw std::invalid_argument("empty image");
   if (static_cast<long long>(image.cols) * image.rows > opt_.max_pixels)
     throw std::invalid_argument("image " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                                 " is over the memory limit of " + std::to_string(opt_.max_pixels) + " pixels");
-  return detect(to_float_image(image), trace);
+  return detect(to_float_image(image), trace, timings);
 }
 
-std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace) const {
+std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace, StageTimings* timings) const {
   if (gray.empty()) throw std::invalid_argument("empty image");
   if (static_cast<long long>(gray.width) * gray.height > opt_.max_pixels)
     throw std::invalid_argument("image " + std::to_string(gray.width) + "x" + std::to_string(gray.height) +
@@ -105,26 +104,30 @@ std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace
   for (const Quad& q : quads) {
     const auto H = tag_homography(q.corners);
     if (!H) continue;
-    std::map<int, std::optional<PayloadReading>> by_width;
+    std::array<std::optional<PayloadReading>, 9> by_width;  // one reading per payload width d
+    std::array<bool, 9> read{};
     Detection best;
     bool have = false;
     for (const TagFamily& f : families_) {
-      const int d = f.payload_width();
-      auto it = by_width.find(d);
-      if (it == by_width.end()) it = by_width.emplace(d, read_payload(decode_image, *H, d, opt_.payload, trace != nullptr)).first;
-      if (!it->second) continue;
-      const auto dec = f.decode(it->second->bits, opt_.max_hamming);
+      const auto d = static_cast<std::size_t>(f.payload_width());
+      if (!read[d]) {
+        by_width[d] = read_payload(decode_image, *H, static_cast<int>(d), opt_.payload, trace != nullptr);
+        read[d] = true;
+      }
+      const auto& reading = by_width[d];
+      if (!reading) continue;
+      const auto dec = f.decode(reading->bits, opt_.max_hamming);
       if (!dec || (have && dec->hamming >= best.hamming)) continue;
       have = true;
       best.family = f.name();
       best.id = dec->id;
       best.hamming = dec->hamming;
       best.rotation = dec->rotation;
-      best.decision_margin = it->second->margin;
+      best.decision_margin = reading->margin;
     }
     if (trace)
-      for (auto& [d, r] : by_width)
-        if (r) trace->readings.push_back(*r);
+      for (auto& r : by_width)
+        if (r) trace->readings.push_back(std::move(*r));
     if (!have) continue;
     // The printed top-left corner is quad corner `rotation` (observed = rotate90^r(code)).
     for (int i = 0; i < 4; ++i)
@@ -173,6 +176,7 @@ std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace
   tm.pose = ms_since(t);
   tm.total = std::chrono::duration<double, std::milli>(Clock::now() - t_start).count();
   for (auto& d : out) d.timings = tm;
+  if (timings) *timings = tm;
 
   if (trace) {
     trace->segmentation_input = seg_in;

@@ -82,8 +82,11 @@ class Detector {
 
   // Detects tags in an 8-bit or 16-bit, gray or colour image. Const and thread-safe: any number of
   // threads may call it at once. Throws std::invalid_argument for an empty or too large image.
-  std::vector<Detection> detect(const cv::Mat& image, DetectorTrace* trace = nullptr) const;
-  std::vector<Detection> detect(const ImageF& gray, DetectorTrace* trace = nullptr) const;
+  // `timings`, if given, receives the frame's stage timings (also when nothing is detected).
+  std::vector<Detection> detect(const cv::Mat& image, DetectorTrace* trace = nullptr,
+                                StageTimings* timings = nullptr) const;
+  std::vector<Detection> detect(const ImageF& gray, DetectorTrace* trace = nullptr,
+                                StageTimings* timings = nullptr) const;
 
   const DetectorOptions& options() const { return opt_; }
   const std::vector<TagFamily>& families() const { return families_; }

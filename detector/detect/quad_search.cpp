@@ -107,16 +107,21 @@ std::vector<Quad> find_quads(const std::vector<Segment>& segs, const QuadSearchO
   std::vector<Quad> quads;
   const StartGrid grid(segs, opt.grid_cell);
   std::array<int, 4> path{};
-  // Children of segment `parent` at the next depth.
-  const auto for_children = [&](int parent, auto&& f) {
-    const Segment& p = segs[static_cast<std::size_t>(parent)];
+  // The segments that may follow each segment (start close enough to its end, turn the right way)
+  // depend only on that segment, not on the path: find them once with the lookup grid, in grid order.
+  std::vector<std::vector<int>> children(segs.size());
+  for (std::size_t parent = 0; parent < segs.size(); ++parent) {
+    const Segment& p = segs[parent];
     const double r = close_enough_radius(opt.close_enough, p.length);
     grid.near(p.p1, r, [&](int child) {
       const Segment& c = segs[static_cast<std::size_t>(child)];
       if ((c.p0 - p.p1).squaredNorm() > r * r) return;
       if (!(cross(p.p1 - p.p0, c.p1 - c.p0) < 0)) return;  // winding: each turn goes the same way
-      f(child);
+      children[parent].push_back(child);
     });
+  }
+  const auto for_children = [&](int parent, auto&& f) {
+    for (const int c : children[static_cast<std::size_t>(parent)]) f(c);
   };
   for (int s0 = 0; s0 < static_cast<int>(segs.size()) && quads.size() < opt.max_quads; ++s0) {
     path[0] = s0;

@@ -43,14 +43,14 @@ TEST(PublishedFamilies, ShippedFamiliesEqualLibapriltagTables) {
                         {"25h9", tag25h9_create, tag25h9_destroy, 5},
                         {"36h10", tag36h10_create, tag36h10_destroy, 6},
                         {"36h11", tag36h11_create, tag36h11_destroy, 6}};
-  const auto pending = pending_family_names();
+  const auto shipped = builtin_family_names();
   int compared = 0;
   for (const auto& c : cases) {
     apriltag_family_t* f = c.create();
     const auto theirs = apriltag3_codes_in_apriltag1_order(f, c.d);
     const int h = static_cast<int>(f->h);
     c.destroy(f);
-    if (std::find(pending.begin(), pending.end(), c.ours) != pending.end()) {
+    if (std::find(shipped.begin(), shipped.end(), c.ours) == shipped.end()) {
       std::printf("note: %s is still being generated; not compared\n", c.ours);
       continue;
     }

@@ -1,0 +1,1156 @@
+// tagbench detect: runs the detector (paper sections III-IV) on images, directories of images and
+// videos; prints every detection as JSON or CSV on stdout, optionally draws the detections (the
+// paper's Fig. 1) and the intermediate stages (Figs. 3 and 4).
+//
+// JSON output (the default; one document for the whole run; --help prints the same text):
+//
+//   {
+//     "tool": "tagbench detect",
+//     "options": {
+//       "families": ["36h11", ...],           // family names, as loaded
+//       "max_hamming": 1,                     // bits corrected at most
+//       "half_res": false,                    // segmentation at half resolution
+//       "camera": [fx, fy, cx, cy] | null,    // pixels
+//       "distortion": [k1, k2, p1, p2, k3] | null,
+//       "tag_size": s | null                  // metres, edge of the black square
+//     },
+//     "images": [                             // every input that was processed, in input order
+//       {
+//         "input": "path" | "video#frameN",   // N counts from 0
+//         "frame": N,                         // video frames only
+//         "width": W, "height": H,            // pixels
+//         "detect_ms": t,                     // wall time of the detector on this image
+//         "detections": [
+//           {
+//             "family": "36h11", "id": 7, "hamming": 0, "rotation": 0..3,
+//             "decision_margin": m,           // 0 = a payload bit on its threshold, 1 = every bit clear
+//             "corners": [[x,y],[x,y],[x,y],[x,y]],  // black square's outer corners, printed TL, TR, BR, BL
+//             "center": [x, y],
+//             "homography": [[h00,h01,h02],[h10,h11,h12],[h20,h21,h22]],  // tag square [-1,1]^2 -> image
+//             "pose": {"R": [[..],[..],[..]], "t": [x, y, z], "reprojection_rms_px": e},  // only with
+//                                             // --camera/--tag-size: X_cam = R X_tag + t, metres
+//             "pose_alternative": {...},      // the planar ambiguity's other solution, when there is one
+//             "timings_ms": {"blur", "gradient", "segmentation", "line_fit", "quads", "decode",
+//                            "pose", "total"}  // of the whole frame
+//           }
+//         ]
+//       }
+//     ],
+//     "errors": [{"input": "path", "error": "what went wrong"}]   // inputs that failed, in input order
+//   }
+//
+// Pixel coordinates have pixel centres at integer coordinates; the camera frame is x right, y down,
+// z forward; the tag frame has its origin at the tag centre, x toward the printed right edge, y
+// toward the bottom edge, z into the tag. Numbers are printed in the shortest form that reads back
+// to the same double; a non-finite number is null. Strings are UTF-8; bytes of a path that are not
+// valid UTF-8 become U+FFFD.
+//
+// CSV output (--format csv): a header row, then one row per detection:
+//   input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,
+//   tx,ty,tz,r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res
+// (pose columns empty without --camera; fields quoted as RFC 4180 when needed).
+//
+// Decisions: a 1-pixel (or any tiny) image is valid input and has no detections; a missing,
+// unreadable, 0-byte or undecodable file, a directory without images and a video without a
+// readable frame are errors of that input: one line on stderr, an entry in "errors", the other
+// inputs still processed, exit status 1. Bad options are usage errors (exit 2) reported before
+// anything is read or written; a family that cannot be loaded exits 1 (as in `tagbench render`).
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <chrono>
+#include <cerrno>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli/args.hpp"
+#include "cli/commands.hpp"
+#include "detect/detector.hpp"
+#include "detect/homography.hpp"
+#include "detect/image.hpp"
+#include "util/atomic_file.hpp"
+#include "util/progress.hpp"
+#include "util/sysinfo.hpp"
+
+namespace tagbench::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
+                       [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
+                       [--format json|csv] [--draw OUT] [--debug-dir DIR] [--threads T]
+
+Detects tags in every input and prints the detections on stdout, in input order.
+Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted to gray), directories
+(searched recursively, image extensions only, sorted), videos (.mp4 .avi .mkv .mov .webm .m4v .mpg
+.mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0).
+  --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
+  --max-hamming K      payload bits corrected at most, 0..16 (default 1)
+  --camera fx,fy,cx,cy intrinsics in pixels (fx, fy > 0; cx, cy >= 0); needs --tag-size; adds poses
+  --distortion k1,k2,p1,p2[,k3]
+                       OpenCV lens distortion; needs --camera (corners are undistorted for the pose)
+  --tag-size M         edge of the black square in metres (> 0); needs --camera
+  --half-res           segment at half resolution (the paper's faster option)
+  --format json|csv    output format (default json)
+  --draw OUT           draw the detections like the paper's Fig. 1 (outline, printed top-left corner
+                       as a dot, id at the centre, pose axes x red, y green, z blue, tag size / 2 long;
+                       z points into the tag). One image input: OUT is the picture (.png, .jpg);
+                       otherwise OUT is a directory and each image goes to OUT/<name>.png
+                       (<name> = file name without extension, made unique with _2, _3, ...;
+                       video frames: <name>_frameN.png)
+  --debug-dir DIR      the stages of the paper's Figs. 3 and 4 as DIR/<name>_<stage>.png, stages
+                       gradient_magnitude, gradient_direction, clusters (at the segmentation's
+                       resolution: half size with --half-res), segments (notch toward the light side),
+                       quads (every candidate; dot on its first corner), samples (the detected tags'
+                       sample points: white ring white, black ring black, payload yellow)
+  --threads T          images processed in parallel (default: all cores); output order is input order
+
+Errors: an input that cannot be read (missing, unreadable, 0 bytes, corrupt) prints one line on stderr
+naming it, the other inputs are still processed, and the exit status is 1. Bad options exit with 2.
+A 1-pixel image is valid and has no detections. Files are written atomically; nothing is written for
+a failed input.
+
+JSON output (one document for the whole run):
+  {"tool": "tagbench detect",
+   "options": {"families": [names], "max_hamming": K, "half_res": bool,
+               "camera": [fx,fy,cx,cy] or null, "distortion": [k1,k2,p1,p2,k3] or null,
+               "tag_size": metres or null},
+   "images": [{"input": path or "video#frameN", "frame": N (videos only), "width": W, "height": H,
+               "detect_ms": wall time,
+               "detections": [{"family", "id", "hamming", "rotation", "decision_margin",
+                               "corners": [[x,y] x4: printed TL, TR, BR, BL],
+                               "center": [x,y],
+                               "homography": [[3] x3] (tag square [-1,1]^2 -> pixels),
+                               "pose": {"R": [[3] x3], "t": [x,y,z], "reprojection_rms_px"}  (with --camera),
+                               "pose_alternative": {same}  (when the planar ambiguity has a 2nd solution),
+                               "timings_ms": {"blur","gradient","segmentation","line_fit","quads",
+                                              "decode","pose","total"} (of the frame)}]}],
+   "errors": [{"input": path, "error": message}]}
+Pixel centres are at integer coordinates; camera frame x right, y down, z forward; tag frame origin at
+the centre, x right, y down (as printed), z into the tag; X_cam = R X_tag + t (metres).
+
+CSV output: a header row, then one row per detection:
+  input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,
+  r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res
+(pose columns empty without --camera).
+)";
+
+// ------------------------------------------------------------------------------------------------
+// Text helpers
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+const std::set<std::string>& image_extensions() {
+  static const std::set<std::string> e = {".png", ".jpg", ".jpeg", ".jpe", ".jp2", ".pgm", ".ppm", ".pbm",
+                                          ".pnm", ".pam", ".pfm", ".tif", ".tiff", ".bmp", ".dib", ".webp",
+                                          ".exr", ".hdr", ".pic", ".sr", ".ras"};
+  return e;
+}
+
+const std::set<std::string>& video_extensions() {
+  static const std::set<std::string> e = {".mp4", ".avi", ".mkv", ".mov", ".webm", ".m4v", ".mpg",
+                                          ".mpeg", ".wmv", ".flv", ".ogv", ".3gp", ".ts", ".mjpeg", ".mjpg"};
+  return e;
+}
+
+bool is_video_path(const fs::path& p) { return video_extensions().count(lower(p.extension().string())) > 0; }
+bool is_image_path(const fs::path& p) { return image_extensions().count(lower(p.extension().string())) > 0; }
+
+// One line for stderr: control characters (a newline in a file name or an OpenCV message) are shown
+// escaped or as spaces, so every error stays on its own line.
+std::string one_line(const std::string& s, bool escape) {
+  std::string out;
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 0x20 && c != 0x7f) {
+      out += ch;
+    } else if (!escape) {
+      if (!out.empty() && out.back() != ' ') out += ' ';
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    }
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+// A JSON string literal: quotes, backslashes and control characters escaped; invalid UTF-8 bytes
+// replaced by U+FFFD so the document stays valid.
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  const auto* p = reinterpret_cast<const unsigned char*>(s.data());
+  const std::size_t n = s.size();
+  for (std::size_t i = 0; i < n;) {
+    const unsigned char c = p[i];
+    if (c < 0x80) {
+      switch (c) {
+        case '"': out += "\\\""; break;
+        case '\\': out += "\\\\"; break;
+        case '\b': out += "\\b"; break;
+        case '\f': out += "\\f"; break;
+        case '\n': out += "\\n"; break;
+        case '\r': out += "\\r"; break;
+        case '\t': out += "\\t"; break;
+        default:
+          if (c < 0x20 || c == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            out += buf;
+          } else {
+            out += static_cast<char>(c);
+          }
+      }
+      ++i;
+      continue;
+    }
+    // A multi-byte sequence: check the lead byte, the continuation bytes, overlongs, surrogates.
+    std::size_t len = 0;
+    std::uint32_t cp = 0, min_cp = 0;
+    if (c >= 0xc2 && c <= 0xdf) len = 2, cp = c & 0x1f, min_cp = 0x80;
+    else if (c >= 0xe0 && c <= 0xef) len = 3, cp = c & 0x0f, min_cp = 0x800;
+    else if (c >= 0xf0 && c <= 0xf4) len = 4, cp = c & 0x07, min_cp = 0x10000;
+    bool ok = len > 0 && i + len <= n;
+    for (std::size_t k = 1; ok && k < len; ++k) {
+      if ((p[i + k] & 0xc0) != 0x80) ok = false;
+      else cp = (cp << 6) | (p[i + k] & 0x3f);
+    }
+    ok = ok && cp >= min_cp && cp <= 0x10ffff && !(cp >= 0xd800 && cp <= 0xdfff);
+    if (ok) {
+      out.append(s, i, len);
+      i += len;
+    } else {
+      out += "\xef\xbf\xbd";  // U+FFFD
+      ++i;
+    }
+  }
+  out += '"';
+  return out;
+}
+
+// The shortest decimal that reads back to the same double; JSON null for NaN and infinities.
+std::string num(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+// CSV: the same numbers, empty for non-finite; text fields quoted when they need it.
+std::string csv_num(double v) { return std::isfinite(v) ? num(v) : std::string(); }
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + '"';
+}
+
+// ------------------------------------------------------------------------------------------------
+// Options
+
+struct Settings {
+  DetectorOptions det;
+  bool csv = false;
+  std::optional<fs::path> draw;
+  bool draw_is_file = false;
+  std::optional<fs::path> debug_dir;
+  int threads = 1;
+};
+
+std::vector<double> parse_list(const std::string& option, const std::string& text, std::size_t min_n,
+                               std::size_t max_n, const std::string& what) {
+  std::vector<double> v;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    double x = 0;
+    const auto r = std::from_chars(item.data(), item.data() + item.size(), x);
+    if (item.empty() || r.ec != std::errc() || r.ptr != item.data() + item.size() || !std::isfinite(x))
+      throw UsageError(option + " " + text + ": '" + item + "' is not a finite number (expected " + what + ")");
+    v.push_back(x);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (v.size() < min_n || v.size() > max_n)
+    throw UsageError(option + " " + text + ": expected " + what + ", got " + std::to_string(v.size()) +
+                     (v.size() == 1 ? " number" : " numbers"));
+  return v;
+}
+
+Settings parse_settings(const Args& a) {
+  Settings s;
+  if (a.has("family")) s.det.families = a.all("family");
+  s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));
+  s.det.half_resolution = a.flag("half-res");
+
+  std::optional<double> tag_size;
+  if (const auto t = a.get("tag-size")) {
+    const double v = parse_double("--tag-size", *t, -1e300, 1e300);
+    if (!(v > 0)) throw UsageError("--tag-size " + *t + ": the tag size must be > 0 (metres)");
+    tag_size = v;
+  }
+  if (const auto c = a.get("camera")) {
+    const auto v = parse_list("--camera", *c, 4, 4, "fx,fy,cx,cy");
+    if (!(v[0] > 0) || !(v[1] > 0))
+      throw UsageError("--camera " + *c + ": focal lengths fx and fy must be > 0");
+    if (v[2] < 0 || v[3] < 0) throw UsageError("--camera " + *c + ": principal point cx and cy must be >= 0");
+    s.det.camera = CameraIntrinsics{v[0], v[1], v[2], v[3]};
+  }
+  if (const auto d = a.get("distortion")) {
+    const auto v = parse_list("--distortion", *d, 4, 5, "k1,k2,p1,p2[,k3]");
+    std::array<double, 5> k{0, 0, 0, 0, 0};
+    std::copy(v.begin(), v.end(), k.begin());
+    s.det.distortion = k;
+  }
+  if (s.det.camera && !tag_size) throw UsageError("--camera needs --tag-size (metres) for the pose");
+  if (tag_size && !s.det.camera) throw UsageError("--tag-size needs --camera fx,fy,cx,cy");
+  if (s.det.distortion && !s.det.camera) throw UsageError("--distortion needs --camera fx,fy,cx,cy");
+  if (tag_size) s.det.tag_size = *tag_size;
+
+  const std::string format = a.get_or("format", "json");
+  if (format != "json" && format != "csv") throw UsageError("--format " + format + ": use json or csv");
+  s.csv = format == "csv";
+  s.threads = static_cast<int>(a.get_int("threads", hardware_threads(), 1, 1024));
+  if (const auto d = a.get("debug-dir")) {
+    if (d->empty()) throw UsageError("--debug-dir: empty path");
+    s.debug_dir = fs::path(*d);
+    std::error_code ec;
+    if (fs::exists(*s.debug_dir, ec) && !fs::is_directory(*s.debug_dir, ec))
+      throw UsageError("--debug-dir " + *d + ": exists and is not a directory");
+  }
+  if (const auto d = a.get("draw")) {
+    if (d->empty()) throw UsageError("--draw: empty path");
+    s.draw = fs::path(*d);
+  }
+  return s;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Inputs
+
+// One unit of work: an image file, a decoded video frame, or an input already known to have failed.
+struct Job {
+  std::size_t index = 0;
+  std::string label;      // as reported: the path, or "video#frameN"
+  cv::Mat frame;          // the decoded image or video frame
+  int frame_number = -1;  // >= 0 for video frames
+  std::string out_name;   // base name of drawn/debug files
+  std::string error;      // non-empty: this input failed before any work
+};
+
+struct Outcome {
+  std::string label;
+  int frame_number = -1;
+  std::string error;  // empty = success
+  int width = 0, height = 0;
+  double detect_ms = 0;
+  std::vector<Detection> detections;
+};
+
+// A source after expanding directories: an image, a video, or an error.
+struct Source {
+  fs::path path;
+  std::string label;
+  bool video = false;
+  std::string error;
+  std::string out_name;
+};
+
+std::string system_reason(const std::error_code& ec) { return ec ? ec.message() : std::string("unknown error"); }
+
+std::vector<Source> expand_inputs(const std::vector<std::string>& inputs) {
+  std::vector<Source> out;
+  for (const std::string& in : inputs) {
+    const fs::path p(in);
+    std::error_code ec;
+    const fs::file_status st = fs::status(p, ec);
+    if (ec || !fs::exists(st)) {
+      out.push_back({p, in, false, ec && ec != std::errc::no_such_file_or_directory ? system_reason(ec)
+                                                                                  : "no such file or directory", {}});
+      continue;
+    }
+    if (fs::is_directory(st)) {
+      std::vector<fs::path> files;
+      std::error_code it_ec;
+      fs::recursive_directory_iterator it(p, fs::directory_options::skip_permission_denied, it_ec), end;
+      for (; !it_ec && it != end; it.increment(it_ec)) {
+        std::error_code fe;
+        if (it->is_regular_file(fe) && is_image_path(it->path())) files.push_back(it->path());
+      }
+      if (it_ec) {
+        out.push_back({p, in, false, "cannot read directory: " + system_reason(it_ec), {}});
+        continue;
+      }
+      if (files.empty()) {
+        out.push_back({p, in, false, "directory has no image files", {}});
+        continue;
+      }
+      std::sort(files.begin(), files.end());
+      for (const auto& f : files) out.push_back({f, f.string(), false, {}, {}});
+      continue;
+    }
+    out.push_back({p, in, is_video_path(p), {}, {}});
+  }
+  // Unique output names: the file name without its extension, then _2, _3, ... on a clash.
+  std::set<std::string> used;
+  for (auto& s : out) {
+    if (!s.error.empty()) continue;
+    std::string stem = s.path.stem().string();
+    if (stem.empty()) stem = "image";
+    std::string name = stem;
+    for (int k = 2; used.count(name); ++k) name = stem + "_" + std::to_string(k);
+    used.insert(name);
+    s.out_name = name;
+  }
+  return out;
+}
+
+// Image and video libraries print their own warnings and errors on stderr (libpng: "PNG input buffer
+// is incomplete", libjpeg: "Premature end of JPEG file", ffmpeg: ...). They would break the
+// one-line-per-error rule and repeat what our error line says, so decoding runs with stderr pointed
+// at /dev/null. Only the main thread decodes and only the main thread prints, so nothing of ours is
+// ever lost; the worker threads (detection, drawing) print nothing.
+class QuietStderr {
+ public:
+  QuietStderr() {
+    std::fflush(stderr);
+    saved_ = ::dup(STDERR_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ < 0 || null < 0 || ::dup2(null, STDERR_FILENO) < 0) {
+      if (saved_ >= 0) ::close(saved_);
+      saved_ = -1;
+    }
+    if (null >= 0) ::close(null);
+  }
+  ~QuietStderr() {
+    if (saved_ < 0) return;
+    std::fflush(stderr);
+    ::dup2(saved_, STDERR_FILENO);
+    ::close(saved_);
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
+// Reads and decodes an image file; throws std::runtime_error with the reason.
+cv::Mat load_image(const fs::path& path) {
+  std::string bytes;
+  {
+    errno = 0;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error(std::string("cannot open: ") + (errno ? std::strerror(errno) : "unknown error"));
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) throw std::runtime_error("read error");
+    bytes = ss.str();
+  }
+  if (bytes.empty()) throw std::runtime_error("empty file (0 bytes)");
+  const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data()));
+  cv::Mat img;
+  try {
+    img = cv::imdecode(raw, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+  } catch (const cv::Exception&) {
+    img.release();
+  }
+  if (img.empty()) throw std::runtime_error("cannot decode the image (corrupt or unsupported format)");
+  return img;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Pictures
+
+cv::Mat to_bgr8(const cv::Mat& img) {
+  cv::Mat m8;
+  switch (img.depth()) {
+    case CV_8U: m8 = img; break;
+    case CV_16U: img.convertTo(m8, CV_8U, 1.0 / 257.0); break;
+    default: img.convertTo(m8, CV_8U, 255.0); break;  // float images are taken to be in [0, 1]
+  }
+  cv::Mat bgr;
+  if (m8.channels() == 1) cv::cvtColor(m8, bgr, cv::COLOR_GRAY2BGR);
+  else if (m8.channels() == 4) cv::cvtColor(m8, bgr, cv::COLOR_BGRA2BGR);
+  else bgr = m8.clone();
+  return bgr;
+}
+
+cv::Mat gray_bgr(const ImageF& g, double gain = 1.0) {
+  cv::Mat m(g.height, g.width, CV_8UC1);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x)
+      m.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(g.at(x, y) * 255.0 * gain);
+  cv::Mat bgr;
+  cv::cvtColor(m, bgr, cv::COLOR_GRAY2BGR);
+  return bgr;
+}
+
+constexpr int kShift = 4;  // sub-pixel drawing: coordinates in 1/16 px
+cv::Point fixed(const Eigen::Vector2d& p) {
+  return {static_cast<int>(std::lround(p.x() * (1 << kShift))), static_cast<int>(std::lround(p.y() * (1 << kShift)))};
+}
+bool finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::abs(p.x()) < 1e7 && std::abs(p.y()) < 1e7; }
+
+// Outline colours (BGR), none of them the axes' pure red, green or blue.
+const cv::Scalar kPalette[] = {{255, 255, 0}, {255, 0, 255}, {0, 255, 255}, {0, 160, 255},
+                               {255, 128, 0}, {200, 100, 255}, {128, 255, 128}, {255, 0, 128}};
+cv::Scalar palette(std::size_t i) { return kPalette[i % (sizeof kPalette / sizeof kPalette[0])]; }
+
+// A colour from a fixed seed (cluster i always gets the same colour).
+cv::Scalar seeded_colour(std::size_t i) {
+  cv::RNG rng(0x9e3779b97f4a7c15ULL ^ (static_cast<std::uint64_t>(i) * 0xbf58476d1ce4e5b9ULL + 1));
+  return {static_cast<double>(rng.uniform(48, 256)), static_cast<double>(rng.uniform(48, 256)),
+          static_cast<double>(rng.uniform(48, 256))};
+}
+
+// The paper's Fig. 1: outline, a dot on the printed top-left corner, id, pose axes (x red, y green,
+// z blue; z points into the tag, as the tag frame's z does).
+cv::Mat draw_detections(const cv::Mat& image, const std::vector<Detection>& dets, const DetectorOptions& opt,
+                        bool several_families) {
+  cv::Mat out = to_bgr8(image);
+  const int thick = std::max(1, static_cast<int>(std::lround(std::min(out.cols, out.rows) / 400.0)));
+  for (std::size_t k = 0; k < dets.size(); ++k) {
+    const Detection& d = dets[k];
+    bool ok = true;
+    for (const auto& c : d.corners) ok = ok && finite(c);
+    if (!ok) continue;
+    const cv::Scalar col = palette(k);
+    double edge = 0;
+    for (int i = 0; i < 4; ++i) {
+      const auto& a = d.corners[static_cast<std::size_t>(i)];
+      const auto& b = d.corners[static_cast<std::size_t>((i + 1) % 4)];
+      edge += (b - a).norm() / 4;
+      cv::line(out, fixed(a), fixed(b), col, thick, cv::LINE_AA, kShift);
+    }
+    const int r = std::max(2, static_cast<int>(std::lround(edge / 14)));
+    cv::circle(out, fixed(d.corners[0]), r << kShift, col, cv::FILLED, cv::LINE_AA, kShift);  // printed top-left
+
+    const std::string text = several_families ? d.family + ":" + std::to_string(d.id) : std::to_string(d.id);
+    const double scale = std::clamp(edge / 160.0, 0.3, 4.0);
+    const int tt = std::max(1, static_cast<int>(std::lround(scale * 1.5)));
+    int base = 0;
+    const cv::Size sz = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, tt, &base);
+    const cv::Point org(static_cast<int>(std::lround(d.center.x() - sz.width / 2.0)),
+                        static_cast<int>(std::lround(d.center.y() + sz.height / 2.0)));
+    if (finite(d.center)) {
+      cv::putText(out, text, org, cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(0, 0, 0), tt + 2, cv::LINE_AA);
+      cv::putText(out, text, org, cv::FONT_HERSHEY_SIMPLEX, scale, col, tt, cv::LINE_AA);
+    }
+
+    if (d.pose) {  // drawn over the id text, so the axes' origin stays visible
+      const Pose& p = d.pose->pose;
+      cv::Mat R(3, 3, CV_64F), rvec, tvec = (cv::Mat_<double>(3, 1) << p.t.x(), p.t.y(), p.t.z());
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) R.at<double>(i, j) = p.R(i, j);
+      cv::Rodrigues(R, rvec);
+      const cv::Matx33d K(opt.camera->fx, 0, opt.camera->cx, 0, opt.camera->fy, opt.camera->cy, 0, 0, 1);
+      std::vector<double> dist(5, 0.0);
+      if (opt.distortion) dist.assign(opt.distortion->begin(), opt.distortion->end());
+      const double h = opt.tag_size / 2;
+      const std::vector<cv::Point3d> axes = {{0, 0, 0}, {h, 0, 0}, {0, h, 0}, {0, 0, h}};
+      bool in_front = true;
+      for (const auto& q : axes) in_front = in_front && (p.R * Eigen::Vector3d(q.x, q.y, q.z) + p.t).z() > 1e-9;
+      if (in_front) {
+        std::vector<cv::Point2d> img;
+        cv::projectPoints(axes, rvec, tvec, K, dist, img);
+        const cv::Scalar axis_col[3] = {{0, 0, 255}, {0, 255, 0}, {255, 0, 0}};  // x red, y green, z blue
+        for (int i = 0; i < 3; ++i) {
+          const Eigen::Vector2d a(img[0].x, img[0].y), b(img[static_cast<std::size_t>(i + 1)].x,
+                                                          img[static_cast<std::size_t>(i + 1)].y);
+          if (finite(a) && finite(b)) cv::line(out, fixed(a), fixed(b), axis_col[i], thick + 1, cv::LINE_AA, kShift);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// The six stage pictures of Figs. 3 and 4, in the order of kStages.
+constexpr const char* kStages[] = {"gradient_magnitude", "gradient_direction", "clusters", "segments", "quads",
+                                   "samples"};
+
+// Whether a payload reading was taken on a detected tag's quad: it has d*d payload samples and each
+// lies on one of the tag's payload cell centres (the reading's quad may list its corners in another
+// order, so the points are compared as a set).
+bool reading_of(const PayloadReading& r, const Detection& d, int width) {
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(width);
+  if (width <= 0 || r.payload_points.size() != n) return false;
+  std::vector<Eigen::Vector2d> cells;
+  const double cell = 2.0 / (width + 2);
+  for (int gy = 2; gy <= width + 1; ++gy)
+    for (int gx = 2; gx <= width + 1; ++gx)
+      cells.push_back(apply_homography(d.homography, Eigen::Vector2d(-1 + (gx - 0.5) * cell, -1 + (gy - 0.5) * cell)));
+  for (const auto& p : r.payload_points) {
+    double best = 1e300;
+    for (const auto& c : cells) best = std::min(best, (p - c).squaredNorm());
+    if (!(best < 0.25)) return false;  // within half a pixel
+  }
+  return true;
+}
+
+std::vector<cv::Mat> stage_pictures(const ImageF& gray, const DetectorTrace& tr, const std::vector<Detection>& dets,
+                                    const Detector& det) {
+  const DetectorOptions& opt = det.options();
+  std::vector<cv::Mat> pics;
+  const ImageF& mag = tr.gradient_magnitude;
+  const ImageF& dir = tr.gradient_direction;
+
+  // Gradient magnitude (the square root of the stored squared magnitude), scaled to its maximum.
+  {
+    float mx = 0;
+    for (const float v : mag.data) mx = std::max(mx, v);
+    const double s = mx > 0 ? 255.0 / std::sqrt(static_cast<double>(mx)) : 0.0;
+    cv::Mat m(mag.height, mag.width, CV_8UC1);
+    for (int y = 0; y < mag.height; ++y)
+      for (int x = 0; x < mag.width; ++x)
+        m.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(std::sqrt(static_cast<double>(mag.at(x, y))) * s);
+    pics.push_back(m);
+  }
+  // Gradient direction as hue where the magnitude passes min_mag, black elsewhere.
+  {
+    cv::Mat hsv(dir.height, dir.width, CV_8UC3, cv::Scalar(0, 0, 0));
+    for (int y = 0; y < dir.height; ++y)
+      for (int x = 0; x < dir.width; ++x) {
+        if (!(mag.at(x, y) > opt.segmentation.min_mag)) continue;
+        const double hue = (dir.at(x, y) + std::numbers::pi) / (2 * std::numbers::pi) * 180.0;
+        hsv.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<std::uint8_t>(std::clamp(hue, 0.0, 179.0)), 255, 255);
+      }
+    cv::Mat bgr;
+    cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+    pics.push_back(bgr);
+  }
+  // Clusters, each in its own seeded colour.
+  {
+    cv::Mat m(mag.height, mag.width, CV_8UC3, cv::Scalar(0, 0, 0));
+    for (std::size_t i = 0; i < tr.clusters.size(); ++i) {
+      const cv::Scalar c = seeded_colour(i);
+      const cv::Vec3b v(static_cast<std::uint8_t>(c[0]), static_cast<std::uint8_t>(c[1]), static_cast<std::uint8_t>(c[2]));
+      for (const ClusterPixel& p : tr.clusters[i])
+        if (p.x >= 0 && p.y >= 0 && p.x < m.cols && p.y < m.rows) m.at<cv::Vec3b>(p.y, p.x) = v;
+    }
+    pics.push_back(m);
+  }
+  // Segments over the dimmed image, a notch at each midpoint toward the light side (the right of p0->p1).
+  {
+    cv::Mat m = gray_bgr(gray, 0.5);
+    for (std::size_t i = 0; i < tr.segments.size(); ++i) {
+      const Segment& s = tr.segments[i];
+      if (!finite(s.p0) || !finite(s.p1) || !(s.length > 0)) continue;
+      const cv::Scalar c = seeded_colour(i);
+      const Eigen::Vector2d d = (s.p1 - s.p0) / s.length;
+      const Eigen::Vector2d right(-d.y(), d.x());
+      const Eigen::Vector2d mid = (s.p0 + s.p1) / 2;
+      const double notch = std::clamp(s.length * 0.2, 2.0, 8.0);
+      cv::line(m, fixed(s.p0), fixed(s.p1), c, 1, cv::LINE_AA, kShift);
+      cv::line(m, fixed(mid), fixed(Eigen::Vector2d(mid + notch * right)), c, 1, cv::LINE_AA, kShift);
+    }
+    pics.push_back(m);
+  }
+  // Every candidate quad; a dot on its first corner.
+  {
+    cv::Mat m = gray_bgr(gray, 0.5);
+    for (std::size_t k = 0; k < tr.quads.size(); ++k) {
+      const Quad& q = tr.quads[k];
+      bool ok = true;
+      for (const auto& c : q.corners) ok = ok && finite(c);
+      if (!ok) continue;
+      const cv::Scalar c = palette(k);
+      for (int i = 0; i < 4; ++i)
+        cv::line(m, fixed(q.corners[static_cast<std::size_t>(i)]), fixed(q.corners[static_cast<std::size_t>((i + 1) % 4)]),
+                 c, 1, cv::LINE_AA, kShift);
+      cv::circle(m, fixed(q.corners[0]), 2 << kShift, c, cv::FILLED, cv::LINE_AA, kShift);
+    }
+    pics.push_back(m);
+  }
+  // The sample points (Fig. 4) of the detected tags' quads. (The trace holds a reading for every
+  // quad that could be sampled, most of them inside tags; drawing them all hides the tags' own.)
+  {
+    cv::Mat m = gray_bgr(gray);
+    // Each dot has a ring of the opposite shade: white samples sit on white, black ones on black.
+    const auto dots = [&](const std::vector<Eigen::Vector2d>& pts, const cv::Scalar& fill, const cv::Scalar& ring) {
+      for (const auto& p : pts) {
+        if (!finite(p)) continue;
+        cv::circle(m, fixed(p), 5 << (kShift - 1), ring, cv::FILLED, cv::LINE_AA, kShift);
+        cv::circle(m, fixed(p), 3 << (kShift - 1), fill, cv::FILLED, cv::LINE_AA, kShift);
+      }
+    };
+    for (const PayloadReading& r : tr.readings) {
+      bool detected = false;
+      for (const Detection& d : dets)
+        for (const TagFamily& f : det.families())
+          detected = detected || (f.name() == d.family && reading_of(r, d, f.payload_width()));
+      if (!detected) continue;
+      dots(r.white_points, cv::Scalar(255, 255, 255), cv::Scalar(0, 0, 0));
+      dots(r.black_points, cv::Scalar(0, 0, 0), cv::Scalar(255, 255, 255));
+      dots(r.payload_points, cv::Scalar(0, 255, 255), cv::Scalar(0, 0, 0));
+    }
+    pics.push_back(m);
+  }
+  return pics;
+}
+
+std::string encode(const cv::Mat& img, const std::string& ext) {
+  std::vector<std::uint8_t> buf;
+  if (!cv::imencode(ext, img, buf)) throw std::runtime_error("cannot encode a " + ext + " picture");
+  return std::string(reinterpret_cast<const char*>(buf.data()), buf.size());
+}
+
+// ------------------------------------------------------------------------------------------------
+// Processing one input
+
+class Processor {
+ public:
+  Processor(const Settings& s, const Detector& det) : s_(s), det_(det) {}
+
+  Outcome run(Job& job) const {
+    Outcome o;
+    o.label = job.label;
+    o.frame_number = job.frame_number;
+    if (!job.error.empty()) {
+      o.error = job.error;
+      return o;
+    }
+    std::vector<fs::path> written;
+    try {
+      const cv::Mat img = std::move(job.frame);
+      o.width = img.cols;
+      o.height = img.rows;
+      const bool debug = s_.debug_dir.has_value();
+      DetectorTrace trace;
+      const auto t0 = std::chrono::steady_clock::now();
+      o.detections = det_.detect(img, debug ? &trace : nullptr);
+      o.detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+      // Pictures: everything encoded first, then written (each atomically); on a failure the
+      // pictures already written for this input are removed, so a failed input leaves nothing.
+      std::vector<std::pair<fs::path, std::string>> files;
+      if (s_.draw) {
+        const cv::Mat pic = draw_detections(img, o.detections, det_.options(), det_.families().size() > 1);
+        if (s_.draw_is_file) {
+          files.emplace_back(*s_.draw, encode(pic, lower(s_.draw->extension().string())));
+        } else {
+          files.emplace_back(*s_.draw / (job.out_name + ".png"), encode(pic, ".png"));
+        }
+      }
+      if (debug) {
+        const auto pics = stage_pictures(to_float_image(img), trace, o.detections, det_);
+        for (std::size_t i = 0; i < pics.size(); ++i)
+          files.emplace_back(*s_.debug_dir / (job.out_name + "_" + kStages[i] + ".png"), encode(pics[i], ".png"));
+      }
+      for (const auto& [path, bytes] : files) {
+        make_parent(path);
+        write_file_atomic(path, bytes);
+        written.push_back(path);
+      }
+    } catch (const std::exception& e) {
+      fail(o, written, e.what());
+    } catch (...) {
+      fail(o, written, "unknown error");
+    }
+    return o;
+  }
+
+ private:
+  static void fail(Outcome& o, const std::vector<fs::path>& written, const std::string& why) {
+    for (const auto& p : written) {
+      std::error_code ec;
+      fs::remove(p, ec);
+    }
+    o.error = why.empty() ? "failed" : why;
+    o.detections.clear();
+  }
+
+  // Output directories are created on first use (so a run whose inputs all fail creates nothing).
+  void make_parent(const fs::path& file) const {
+    if (s_.draw_is_file && s_.draw && file == *s_.draw) return;
+    const fs::path dir = file.parent_path();
+    std::lock_guard<std::mutex> lock(dir_mutex_);
+    std::error_code ec;
+    if (fs::is_directory(dir, ec)) return;
+    fs::create_directories(dir, ec);
+    if (ec) throw std::runtime_error("cannot create directory " + dir.string() + ": " + ec.message());
+  }
+
+  const Settings& s_;
+  const Detector& det_;
+  mutable std::mutex dir_mutex_;
+};
+
+// ------------------------------------------------------------------------------------------------
+// Output
+
+class Sink {
+ public:
+  Sink(const Settings& s, const Detector& det) : s_(s), det_(det), tty_(::isatty(STDERR_FILENO) != 0) {}
+
+  void begin() {
+    if (s_.csv) {
+      put("input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,"
+          "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res\n");
+      return;
+    }
+    const DetectorOptions& o = det_.options();
+    std::string h = "{\n  \"tool\": \"tagbench detect\",\n  \"options\": {\"families\": [";
+    for (std::size_t i = 0; i < det_.families().size(); ++i)
+      h += (i ? ", " : "") + json_string(det_.families()[i].name());
+    h += "], \"max_hamming\": " + std::to_string(o.max_hamming) +
+         ", \"half_res\": " + (o.half_resolution ? "true" : "false") + ", \"camera\": ";
+    if (o.camera)
+      h += "[" + num(o.camera->fx) + ", " + num(o.camera->fy) + ", " + num(o.camera->cx) + ", " + num(o.camera->cy) + "]";
+    else
+      h += "null";
+    h += ", \"distortion\": ";
+    if (o.distortion) {
+      h += "[";
+      for (std::size_t i = 0; i < 5; ++i) h += (i ? ", " : "") + num((*o.distortion)[i]);
+      h += "]";
+    } else {
+      h += "null";
+    }
+    h += ", \"tag_size\": " + (o.camera ? num(o.tag_size) : std::string("null")) + "},\n  \"images\": [";
+    put(h);
+  }
+
+  void emit(const Outcome& o) {
+    if (!o.error.empty()) {
+      errors_.push_back(o);
+      std::fprintf(stderr, "%stagbench detect: %s: %s\n", tty_ ? "\r\033[K" : "", one_line(o.label, true).c_str(),
+                   one_line(o.error, false).c_str());
+      std::fflush(stderr);
+      return;
+    }
+    if (s_.csv) emit_csv(o);
+    else emit_json(o);
+  }
+
+  void end() {
+    if (!s_.csv) {
+      std::string t = images_ ? "\n  ],\n  \"errors\": [" : "],\n  \"errors\": [";
+      for (std::size_t i = 0; i < errors_.size(); ++i)
+        t += std::string(i ? "," : "") + "\n    {\"input\": " + json_string(errors_[i].label) +
+             ", \"error\": " + json_string(errors_[i].error) + "}";
+      t += errors_.empty() ? "]\n}\n" : "\n  ]\n}\n";
+      put(t);
+    }
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) throw std::runtime_error("cannot write the output to stdout");
+  }
+
+  std::size_t failures() const { return errors_.size(); }
+
+ private:
+  void put(const std::string& s) { std::fwrite(s.data(), 1, s.size(), stdout); }
+
+  static std::string point(const Eigen::Vector2d& p) { return "[" + num(p.x()) + ", " + num(p.y()) + "]"; }
+  static std::string matrix(const Eigen::Matrix3d& m) {
+    std::string s = "[";
+    for (int i = 0; i < 3; ++i)
+      s += std::string(i ? ", " : "") + "[" + num(m(i, 0)) + ", " + num(m(i, 1)) + ", " + num(m(i, 2)) + "]";
+    return s + "]";
+  }
+  static std::string pose(const PoseSolution& p) {
+    return "{\"R\": " + matrix(p.pose.R) + ", \"t\": [" + num(p.pose.t.x()) + ", " + num(p.pose.t.y()) + ", " +
+           num(p.pose.t.z()) + "], \"reprojection_rms_px\": " + num(p.reprojection_rms_px) + "}";
+  }
+
+  void emit_json(const Outcome& o) {
+    std::string s = images_++ ? ",\n    {" : "\n    {";
+    s += "\"input\": " + json_string(o.label);
+    if (o.frame_number >= 0) s += ", \"frame\": " + std::to_string(o.frame_number);
+    s += ", \"width\": " + std::to_string(o.width) + ", \"height\": " + std::to_string(o.height) +
+         ", \"detect_ms\": " + num(o.detect_ms) + ", \"detections\": [";
+    for (std::size_t i = 0; i < o.detections.size(); ++i) {
+      const Detection& d = o.detections[i];
+      s += i ? ",\n      {" : "\n      {";
+      s += "\"family\": " + json_string(d.family) + ", \"id\": " + std::to_string(d.id) +
+           ", \"hamming\": " + std::to_string(d.hamming) + ", \"rotation\": " + std::to_string(d.rotation) +
+           ", \"decision_margin\": " + num(d.decision_margin) + ",\n       \"corners\": [";
+      for (std::size_t k = 0; k < 4; ++k) s += (k ? ", " : "") + point(d.corners[k]);
+      s += "], \"center\": " + point(d.center) + ",\n       \"homography\": " + matrix(d.homography);
+      if (d.pose) s += ",\n       \"pose\": " + pose(*d.pose);
+      if (d.pose_alternative) s += ",\n       \"pose_alternative\": " + pose(*d.pose_alternative);
+      const StageTimings& t = d.timings;
+      s += ",\n       \"timings_ms\": {\"blur\": " + num(t.blur) + ", \"gradient\": " + num(t.gradient) +
+           ", \"segmentation\": " + num(t.segmentation) + ", \"line_fit\": " + num(t.line_fit) +
+           ", \"quads\": " + num(t.quads) + ", \"decode\": " + num(t.decode) + ", \"pose\": " + num(t.pose) +
+           ", \"total\": " + num(t.total) + "}}";
+    }
+    s += o.detections.empty() ? "]}" : "\n    ]}";
+    put(s);
+  }
+
+  void emit_csv(const Outcome& o) {
+    for (const Detection& d : o.detections) {
+      std::vector<std::string> f = {csv_field(o.label), csv_field(d.family), std::to_string(d.id),
+                                    std::to_string(d.hamming), std::to_string(d.rotation), csv_num(d.decision_margin)};
+      for (const auto& c : d.corners) {
+        f.push_back(csv_num(c.x()));
+        f.push_back(csv_num(c.y()));
+      }
+      f.push_back(csv_num(d.center.x()));
+      f.push_back(csv_num(d.center.y()));
+      if (d.pose) {
+        const Pose& p = d.pose->pose;
+        for (int i = 0; i < 3; ++i) f.push_back(csv_num(p.t(i)));
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) f.push_back(csv_num(p.R(i, j)));
+        f.push_back(csv_num(d.pose->reprojection_rms_px));
+      } else {
+        f.resize(f.size() + 13);
+      }
+      f.push_back(std::to_string(det_.options().max_hamming));
+      f.push_back(det_.options().half_resolution ? "1" : "0");
+      std::string line;
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        if (i) line += ',';
+        line += f[i];
+      }
+      line += '\n';
+      put(line);
+    }
+  }
+
+  const Settings& s_;
+  const Detector& det_;
+  bool tty_;
+  std::size_t images_ = 0;
+  std::vector<Outcome> errors_;
+};
+
+// ------------------------------------------------------------------------------------------------
+// The ordered parallel pipeline: the main thread reads inputs (and video frames) into jobs, workers
+// detect, the main thread prints outcomes in input order. At most `window` jobs are in flight.
+
+class Pipeline {
+ public:
+  Pipeline(const Processor& proc, Sink& sink, int threads)
+      : proc_(proc), sink_(sink), window_(static_cast<std::size_t>(threads) * 2 + 2),
+        bar_("detect", ::isatty(STDERR_FILENO) != 0), start_(std::chrono::steady_clock::now()) {
+    for (int i = 0; i < threads; ++i) workers_.emplace_back([this] { work(); });
+  }
+  ~Pipeline() { stop(); }
+
+  void add_expected(std::size_t n) { expected_ += n; }
+
+  void submit(Job job) {
+    while (submitted_ - emitted_ >= window_) emit_next();
+    job.index = submitted_++;
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      queue_.push_back(std::move(job));
+    }
+    work_cv_.notify_one();
+  }
+
+  void finish() {
+    while (emitted_ < submitted_) emit_next();
+    stop();
+  }
+
+ private:
+  void emit_next() {
+    Outcome o;
+    {
+      std::unique_lock<std::mutex> lock(m_);
+      done_cv_.wait(lock, [&] { return done_.count(emitted_) > 0; });
+      auto it = done_.find(emitted_);
+      o = std::move(it->second);
+      done_.erase(it);
+    }
+    sink_.emit(o);
+    ++emitted_;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const std::size_t total = std::max(expected_, emitted_);
+    const double rate = elapsed > 0 ? static_cast<double>(emitted_) / elapsed : 0.0;
+    char detail[64];
+    std::snprintf(detail, sizeof detail, "%.1f img/s", rate);
+    bar_.update(static_cast<double>(emitted_) / static_cast<double>(total),
+                std::to_string(emitted_) + "/" + std::to_string(total) + " images", detail,
+                rate > 0 ? static_cast<double>(total - emitted_) / rate : -1.0);
+  }
+
+  void work() {
+    while (true) {
+      Job job;
+      {
+        std::unique_lock<std::mutex> lock(m_);
+        work_cv_.wait(lock, [&] { return closing_ || !queue_.empty(); });
+        if (queue_.empty()) return;
+        job = std::move(queue_.front());
+        queue_.pop_front();
+      }
+      const std::size_t index = job.index;
+      Outcome o = proc_.run(job);
+      {
+        std::lock_guard<std::mutex> lock(m_);
+        done_.emplace(index, std::move(o));
+      }
+      done_cv_.notify_all();
+    }
+  }
+
+  void stop() {
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      closing_ = true;
+    }
+    work_cv_.notify_all();
+    for (auto& t : workers_)
+      if (t.joinable()) t.join();
+  }
+
+  const Processor& proc_;
+  Sink& sink_;
+  std::size_t window_;
+  ProgressBar bar_;
+  std::chrono::steady_clock::time_point start_;
+  std::size_t submitted_ = 0, emitted_ = 0, expected_ = 0;
+  std::mutex m_;
+  std::condition_variable work_cv_, done_cv_;
+  std::deque<Job> queue_;
+  std::map<std::size_t, Outcome> done_;
+  bool closing_ = false;
+  std::vector<std::thread> workers_;
+};
+
+}  // namespace
+
+int cmd_detect(const Words& words) {
+  if (wants_help(words, kHelp)) return 0;
+  const Args a(words, {{"family", true, true},
+                       {"max-hamming"},
+                       {"camera"},
+                       {"distortion"},
+                       {"tag-size"},
+                       {"half-res", false},
+                       {"format"},
+                       {"draw"},
+                       {"debug-dir"},
+                       {"threads"}});
+  if (a.positionals().empty()) throw UsageError("no input given (images, directories or videos)");
+  Settings s = parse_settings(a);
+
+  // --draw: a picture file for a single image input, a directory otherwise.
+  if (s.draw) {
+    std::error_code ec;
+    const fs::path in(a.positionals()[0]);
+    const bool single_image = a.positionals().size() == 1 && !fs::is_directory(in, ec) && !is_video_path(in);
+    s.draw_is_file = single_image && !fs::is_directory(*s.draw, ec);
+    if (s.draw_is_file) {
+      const std::string ext = lower(s.draw->extension().string());
+      if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+        throw UsageError("--draw " + s.draw->string() + ": for one image, OUT is a picture: use .png or .jpg");
+    } else if (fs::exists(*s.draw, ec) && !fs::is_directory(*s.draw, ec)) {
+      throw UsageError("--draw " + s.draw->string() + ": with several inputs OUT must be a directory");
+    }
+  }
+
+  const Detector detector(s.det);  // throws on a family that cannot be loaded
+  // OpenCV's own warnings (decoders, video back ends) would break the one-line-per-error rule.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  cv::setNumThreads(1);  // parallelism is across images; OpenCV's own threads would oversubscribe
+
+  const std::vector<Source> sources = expand_inputs(a.positionals());
+  const Processor proc(s, detector);
+  Sink sink(s, detector);
+  sink.begin();
+  {
+    Pipeline pipe(proc, sink, s.threads);
+    for (const Source& src : sources)
+      if (!src.video) pipe.add_expected(1);
+    for (const Source& src : sources) {
+      Job job;
+      job.label = src.label;
+      job.out_name = src.out_name;
+      if (!src.error.empty()) {
+        job.error = src.error;
+        pipe.submit(std::move(job));
+        continue;
+      }
+      if (!src.video) {
+        try {
+          const QuietStderr quiet;
+          job.frame = load_image(src.path);
+        } catch (const std::exception& e) {
+          job.error = e.what();
+        }
+        pipe.submit(std::move(job));
+        continue;
+      }
+      cv::VideoCapture cap;
+      try {
+        const QuietStderr quiet;
+        cap.open(src.path.string());
+      } catch (const cv::Exception&) {
+      }
+      if (!cap.isOpened()) {
+        job.error = "cannot open the video (corrupt or unsupported format)";
+        pipe.submit(std::move(job));
+        continue;
+      }
+      const double count = cap.get(cv::CAP_PROP_FRAME_COUNT);
+      if (count > 0 && count < 1e9) pipe.add_expected(static_cast<std::size_t>(count));
+      int n = 0;
+      while (true) {
+        cv::Mat frame;
+        bool ok = false;
+        try {
+          const QuietStderr quiet;
+          ok = cap.read(frame);
+        } catch (const cv::Exception&) {
+          ok = false;
+        }
+        if (!ok || frame.empty()) break;
+        Job fj;
+        fj.label = src.label + "#frame" + std::to_string(n);
+        fj.frame_number = n;
+        fj.out_name = src.out_name + "_frame" + std::to_string(n);
+        fj.frame = std::move(frame);
+        pipe.submit(std::move(fj));
+        ++n;
+      }
+      if (n == 0) {
+        job.error = "no frame could be read from the video";
+        pipe.submit(std::move(job));
+      }
+    }
+    pipe.finish();
+  }
+  sink.end();
+  return sink.failures() > 0 ? 1 : 0;
+}
+
+}  // namespace tagbench::cli
