@@ -28,15 +28,18 @@ void BM_Ours(benchmark::State& state) {
   const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
   DetectorOptions o;
   o.families = {"36h11"};
-  o.half_resolution = state.range(2) != 0;
+  o.half_resolution = state.range(2) == 1;
+  if (state.range(2) == 2) o.quad_search.close_enough = CloseEnoughRule::kCode2012;
   const Detector det(o);
   const cv::Mat& img = scene(w, h);
   StageTimings sum;
-  std::size_t found = 0;
+  std::size_t found = 0, segments = 0, quads = 0;
   for (auto _ : state) {
     StageTimings t;
     const auto d = det.detect(img, nullptr, &t);
     found = d.size();
+    segments = t.segment_count;
+    quads = t.quad_count;
     sum.blur += t.blur;
     sum.gradient += t.gradient;
     sum.segmentation += t.segmentation;
@@ -46,6 +49,8 @@ void BM_Ours(benchmark::State& state) {
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["detections"] = static_cast<double>(found);
+  state.counters["segments"] = static_cast<double>(segments);
+  state.counters["candidate_quads"] = static_cast<double>(quads);
   state.counters["blur_ms"] = sum.blur / n;
   state.counters["gradient_ms"] = sum.gradient / n;
   state.counters["segmentation_ms"] = sum.segmentation / n;
@@ -96,7 +101,8 @@ void Resolutions(benchmark::internal::Benchmark* b, std::vector<long> modes) {
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 
-BENCHMARK(BM_Ours)->Apply([](auto* b) { Resolutions(b, {0, 1}); })->ArgNames({"w", "h", "half"});
+// mode 0: full resolution, 1: half resolution, 2: full resolution with the 2012 code's close-enough rule.
+BENCHMARK(BM_Ours)->Apply([](auto* b) { Resolutions(b, {0, 1, 2}); })->ArgNames({"w", "h", "mode"});
 BENCHMARK(BM_AprilTag3)->Apply([](auto* b) { Resolutions(b, {1, 2}); })->ArgNames({"w", "h", "decimate"});
 BENCHMARK(BM_Aruco)->Apply([](auto* b) { Resolutions(b, {0}); })->ArgNames({"w", "h", "refine_apriltag"});
 

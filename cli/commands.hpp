@@ -12,6 +12,7 @@ int cmd_family(const Words& args);
 int cmd_render(const Words& args);
 int cmd_codes(const Words& args);
 int cmd_generator_speed(const Words& args);
+int cmd_scene(const Words& args);
 int cmd_detect(const Words& args);
 
 // True (and the help printed to stdout) when args ask for help.

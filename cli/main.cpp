@@ -19,6 +19,7 @@ Commands:
   codes     the paper's code experiments: code table, Fig. 5 distances, false-positive theory
   generator-speed
             time the lexicode generator (results/generator_speed.csv)
+  scene     a synthetic image with tags at known corners (PNG + JSON ground truth)
 
 Run 'tagbench <command> --help' for a command's options.
 Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).
@@ -35,6 +36,7 @@ constexpr Command kCommands[] = {
     {"detect", tagbench::cli::cmd_detect},
     {"codes", tagbench::cli::cmd_codes},
     {"generator-speed", tagbench::cli::cmd_generator_speed},
+    {"scene", tagbench::cli::cmd_scene},
 };
 
 }  // namespace

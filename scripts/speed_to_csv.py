@@ -24,7 +24,8 @@ def main():
         kind, w, h, arg, val = m.groups()
         ms = b["real_time"] if b["time_unit"] == "ms" else b["real_time"] / 1e6
         if kind == "Ours":
-            det, mode = "tagbench", "half-resolution" if val == "1" else "full-resolution"
+            det, mode = "tagbench", {"0": "full-resolution", "1": "half-resolution",
+                                     "2": "full-resolution, 2012 close-enough rule"}[val]
         elif kind == "AprilTag3":
             det, mode = "libapriltag-3.3", f"decimate-{val}"
         else:
@@ -32,20 +33,20 @@ def main():
         row = {"detector": det, "mode": mode, "width": int(w), "height": int(h), "ms_per_frame": ms,
                "frames_per_second": 1000.0 / ms, "detections": int(b.get("detections", 0)), "threads": 1,
                "family": "36h11", "scene": "make_scene(seed 1234, 6 tags)", "cpu": cpu}
-        for s in STAGES:
-            row[s] = b.get(s, "")
+        for s in STAGES + ["segments", "candidate_quads"]:
+            row[s] = int(b[s]) if s in ("segments", "candidate_quads") and s in b else b.get(s, "")
         rows.append(row)
     ref = {(r["width"], r["mode"]): r["ms_per_frame"] for r in rows if r["detector"] == "libapriltag-3.3"}
     for r in rows:
         if r["detector"] == "tagbench":
-            key = (r["width"], "decimate-1" if r["mode"] == "full-resolution" else "decimate-2")
+            key = (r["width"], "decimate-2" if r["mode"] == "half-resolution" else "decimate-1")
             r["ratio_to_libapriltag"] = r["ms_per_frame"] / ref[key] if key in ref else ""
             r["ratio_reference"] = f"libapriltag-3.3 {key[1]}"
         else:
             r["ratio_to_libapriltag"] = ""
             r["ratio_reference"] = ""
     cols = ["detector", "mode", "width", "height", "ms_per_frame", "frames_per_second", "detections",
-            "ratio_to_libapriltag", "ratio_reference"] + STAGES + ["threads", "family", "scene", "cpu"]
+            "ratio_to_libapriltag", "ratio_reference"] + STAGES + ["segments", "candidate_quads", "threads", "family", "scene", "cpu"]
     tmp = out + ".tmp"
     with open(tmp, "w", newline="") as f:
         wr = csv.DictWriter(f, fieldnames=cols)

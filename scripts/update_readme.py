@@ -84,9 +84,9 @@ def speed(d):
     for r in rows(os.path.join(d, "speed.csv")):
         ratio = f'{float(r["ratio_to_libapriltag"]):.2f}' if r["ratio_to_libapriltag"] else "-"
         body.append([r["detector"], r["mode"], f'{r["width"]}x{r["height"]}', f'{float(r["ms_per_frame"]):.2f}',
-                     r["detections"], ratio])
+                     r["detections"], ratio, r.get("candidate_quads", "") or "-"])
     return table(["Detector", "Mode", "Image", "ms/frame (1 thread)", "Tags found (of 6)",
-                  "Ours / libapriltag"], body)
+                  "Ours / libapriltag", "Candidate quads"], body)
 
 
 BLOCKS = {"pending": pending, "speed": speed, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,

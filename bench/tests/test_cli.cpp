@@ -193,3 +193,38 @@ TEST(Cli, BadInputIsRefusedOnOneLine) {
   expect_refused("render --family " + bad("close2.fam", "hamming: 5", "hamming: 7") + " --id 0 -o " + out.string(),
                  "closer than h=7", out);
 }
+
+TEST(Cli, SceneGroundTruthAndDetectAgree) {
+  const fs::path png = scratch("scene.png"), json = scratch("scene.json");
+  ASSERT_EQ(run("scene --width 480 --height 360 --count 4 --seed 9 -o " + png.string()).code, 0);
+  ASSERT_TRUE(fs::exists(json));
+  const std::string truth = slurp(json);
+  const Result r = run("detect " + png.string() + " --format csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  // Every true tag is detected once with its corners within 0.3 px (ids come from the seed).
+  std::istringstream lines(r.out);
+  std::string line;
+  std::getline(lines, line);  // header
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    ++rows;
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+    const std::string id = f[2];
+    const auto at = truth.find("{\"id\": " + id + ",");
+    ASSERT_NE(at, std::string::npos) << "id " << id << " is not in the scene";
+    std::stringstream t(truth.substr(truth.find("[[", at) + 2));
+    for (int k = 0; k < 4; ++k) {
+      double x = 0, y = 0;
+      char ch = 0;
+      t >> x >> ch >> y;
+      while (t.peek() == ']' || t.peek() == ',' || t.peek() == ' ' || t.peek() == '[') t.get();
+      EXPECT_NEAR(std::stod(f[static_cast<std::size_t>(6 + 2 * k)]), x, 0.3) << "id " << id << " corner " << k;
+      EXPECT_NEAR(std::stod(f[static_cast<std::size_t>(7 + 2 * k)]), y, 0.3) << "id " << id << " corner " << k;
+    }
+  }
+  EXPECT_EQ(rows, 4);
+  expect_refused("scene -o " + scratch("x.jpg").string(), "written as .png");
+  expect_refused("scene --family 36h99 -o " + scratch("y.png").string(), "unknown family '36h99'", scratch("y.png"));
+}

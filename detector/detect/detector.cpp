@@ -1,6 +1,7 @@
 #include "detect/detector.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -98,10 +99,18 @@ std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace
   // 5. Quads.
   std::vector<Quad> quads = find_quads(segments, opt_.quad_search);
   tm.quads = ms_since(t);
+  tm.segment_count = segments.size();
+  tm.quad_count = quads.size();
 
   // 6. Payloads, decoded against every family (one reading per payload width).
   std::vector<Detection> found;
+  int max_d = 0;
+  for (const TagFamily& f : families_) max_d = std::max(max_d, f.payload_width());
+  PayloadOptions payload = opt_.payload;
+  payload.quick_reject = false;  // done below from the corners, before the homography
   for (const Quad& q : quads) {
+    if (opt_.payload.quick_reject && !border_contrast_plausible(decode_image, q.corners, max_d, opt_.payload.min_contrast))
+      continue;
     const auto H = tag_homography(q.corners);
     if (!H) continue;
     std::array<std::optional<PayloadReading>, 9> by_width;  // one reading per payload width d
@@ -111,7 +120,7 @@ std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace
     for (const TagFamily& f : families_) {
       const auto d = static_cast<std::size_t>(f.payload_width());
       if (!read[d]) {
-        by_width[d] = read_payload(decode_image, *H, static_cast<int>(d), opt_.payload, trace != nullptr);
+        by_width[d] = read_payload(decode_image, *H, static_cast<int>(d), payload, trace != nullptr);
         read[d] = true;
       }
       const auto& reading = by_width[d];

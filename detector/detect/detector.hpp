@@ -51,6 +51,7 @@ struct DetectorOptions {
 
 struct StageTimings {  // milliseconds, for the whole frame
   double blur = 0, gradient = 0, segmentation = 0, line_fit = 0, quads = 0, decode = 0, pose = 0, total = 0;
+  std::size_t segment_count = 0, quad_count = 0;  // what the stages produced (candidate quads before decoding)
 };
 
 struct Detection {

@@ -39,6 +39,20 @@ std::optional<IntensityModel> fit_model(const std::vector<Eigen::Vector3d>& s) {
 
 }  // namespace
 
+bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector2d, 4>& c, int d,
+                               double min_contrast) {
+  const double half_cell = 1.0 / (d + 2);  // half a ring cell, in units of the tag's half-width
+  const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+  int good = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d m = 0.5 * (c[i] + c[(i + 1) % 4]);
+    const auto vw = sample_bilinear(img, centre + (1 + half_cell) * (m - centre));
+    const auto vb = sample_bilinear(img, centre + (1 - half_cell) * (m - centre));
+    if (vw && vb && *vw - *vb >= min_contrast) ++good;
+  }
+  return good >= 3;
+}
+
 std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vector2d& p) {
   if (img.empty() || !(p.x() >= 0) || !(p.y() >= 0) || p.x() > img.width - 1 || p.y() > img.height - 1)
     return std::nullopt;

@@ -11,6 +11,7 @@
 // Intensities are bilinear samples of the decoding image (pixel centres at integer coordinates).
 // The bits come out in AprilTag 1 order as seen through the quad: the MSB is the cell nearest the
 // quad's first corner; the decoder's rotation then says which corner is the printed top-left.
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -36,6 +37,13 @@ struct PayloadReading {
   // The sample points in image coordinates (for the debug pictures of the paper's Fig. 4).
   std::vector<Eigen::Vector2d> white_points, black_points, payload_points;
 };
+
+// The quick_reject test straight from a quad's corners, before any homography: each side's midpoint
+// is pushed half a ring cell outward (white ring) and inward (black ring) from the quad's centre, an
+// affine approximation that is plenty for a pre-filter. d is the payload width (the largest of the
+// families tried: its ring cells are the thinnest, so the samples stay inside every family's rings).
+bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector2d, 4>& corners, int d,
+                               double min_contrast);
 
 // Bilinear intensity at a sub-pixel point; nullopt outside [0, w-1] x [0, h-1].
 std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vector2d& p);
