@@ -46,7 +46,7 @@ def generator_speed(d):
     body = []
     for r in rows(os.path.join(d, "generator_speed.csv")):
         body.append([r["family"], r["source"], r["threads"], r["candidates"], r["codes"],
-                     f'{float(r["wall_seconds"]):.1f}', f'{float(r["candidates_per_second"]):.3g}',
+                     f'{float(r["wall_seconds"]):.3g}', f'{float(r["candidates_per_second"]):.3g}',
                      f'{float(r["candidates_per_second_per_thread"]):.3g}', r["matches_shipped"]])
     return table(["Family", "Source", "Threads", "Candidates", "Codes", "Wall s", "Candidates/s", "Per thread",
                   "Equals shipped"], body)
@@ -74,7 +74,8 @@ def pending(_d):
                 k, v = line.split(":", 1)
                 keys[k.strip()] = v.strip()
         done = int(keys["next_index"]) / 2 ** int(keys["bits"])
-        lines.append(f'- `{name[:-5]}`: {100 * done:.1f} % of the candidates examined, {keys["count"]} codes '
+        fam = name[:-5][3:] if name.startswith("tag") else name[:-5]
+        lines.append(f'- `{fam}`: {100 * done:.1f} % of the candidates examined, {keys["count"]} codes '
                      f'accepted so far, {float(keys["elapsed_seconds"]) / 3600:.2f} h of generation.')
     return "\n".join(lines) if lines else "All shipped families are complete."
 
