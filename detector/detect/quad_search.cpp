@@ -107,9 +107,14 @@ std::vector<Quad> find_quads(const std::vector<Segment>& segs, const QuadSearchO
   std::vector<Quad> quads;
   const StartGrid grid(segs, opt.grid_cell);
   std::array<int, 4> path{};
-  // The segments that may follow each segment (start close enough to its end, turn the right way)
-  // depend only on that segment, not on the path: find them once with the lookup grid, in grid order.
-  std::vector<std::vector<int>> children(segs.size());
+  // The segments that may follow each segment (start close enough to its end, turn the right way, lines
+  // not parallel) depend only on that segment, not on the path: find them once with the lookup grid, in
+  // grid order, with the corner where the two lines meet.
+  struct Child {
+    int index;
+    Eigen::Vector2d corner;  // intersection of the parent's and the child's lines
+  };
+  std::vector<std::vector<Child>> children(segs.size());
   for (std::size_t parent = 0; parent < segs.size(); ++parent) {
     const Segment& p = segs[parent];
     const double r = close_enough_radius(opt.close_enough, p.length);
@@ -117,51 +122,60 @@ std::vector<Quad> find_quads(const std::vector<Segment>& segs, const QuadSearchO
       const Segment& c = segs[static_cast<std::size_t>(child)];
       if ((c.p0 - p.p1).squaredNorm() > r * r) return;
       if (!(cross(p.p1 - p.p0, c.p1 - c.p0) < 0)) return;  // winding: each turn goes the same way
-      children[parent].push_back(child);
+      const auto x = line_intersection(p, c);
+      if (x) children[parent].push_back({child, *x});
     });
   }
-  const auto for_children = [&](int parent, auto&& f) {
-    for (const int c : children[static_cast<std::size_t>(parent)]) f(c);
+  // Whether segment k's midpoint projects between corners a and b of its side.
+  const auto on_side = [&](int k, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const Segment& sg = segs[static_cast<std::size_t>(k)];
+    const double t = (0.5 * (sg.p0 + sg.p1) - a).dot(b - a) / (b - a).squaredNorm();
+    return t >= 0 && t <= 1;
   };
   for (int s0 = 0; s0 < static_cast<int>(segs.size()) && quads.size() < opt.max_quads; ++s0) {
     path[0] = s0;
-    for_children(s0, [&](int s1) {
+    for (const Child& c1 : children[static_cast<std::size_t>(s0)]) {
       // Each quad is found from each of its four segments: keep the search rooted at the smallest index.
-      if (s1 <= s0) return;
+      const int s1 = c1.index;
+      if (s1 <= s0) continue;
       path[1] = s1;
-      for_children(s1, [&](int s2) {
-        if (s2 <= s0 || s2 == s1) return;
+      for (const Child& c2 : children[static_cast<std::size_t>(s1)]) {
+        const int s2 = c2.index;
+        if (s2 <= s0 || s2 == s1) continue;
+        // Side s1's corners are fixed once s2 is chosen: prune here what the final check would refuse.
+        if (opt.segments_on_sides && !on_side(s1, c1.corner, c2.corner)) continue;
         path[2] = s2;
-        for_children(s2, [&](int s3) {
-          if (s3 <= s0 || s3 == s1 || s3 == s2 || quads.size() >= opt.max_quads) return;
+        for (const Child& c3 : children[static_cast<std::size_t>(s2)]) {
+          const int s3 = c3.index;
+          if (s3 <= s0 || s3 == s1 || s3 == s2 || quads.size() >= opt.max_quads) continue;
+          if (opt.segments_on_sides && !on_side(s2, c2.corner, c3.corner)) continue;
+          // Closing: the first segment must follow the last as a child would (close enough, right turn).
           const Segment& last = segs[static_cast<std::size_t>(s3)];
           const Segment& first = segs[static_cast<std::size_t>(s0)];
           const double r = close_enough_radius(opt.close_enough, last.length);
-          if ((first.p0 - last.p1).squaredNorm() > r * r) return;
-          if (!(cross(last.p1 - last.p0, first.p1 - first.p0) < 0)) return;
+          if ((first.p0 - last.p1).squaredNorm() > r * r) continue;
+          if (!(cross(last.p1 - last.p0, first.p1 - first.p0) < 0)) continue;
           path[3] = s3;
           double winding = 0;
           for (int i = 0; i < 4; ++i)
             winding += turn(segs[static_cast<std::size_t>(path[static_cast<std::size_t>(i)])].theta,
                             segs[static_cast<std::size_t>(path[static_cast<std::size_t>((i + 1) % 4)])].theta);
-          if (winding < opt.winding_min || winding > opt.winding_max) return;
-          Corners ccw;
-          for (int i = 0; i < 4; ++i) {
-            const auto x = line_intersection(segs[static_cast<std::size_t>(path[static_cast<std::size_t>(i)])],
-                                             segs[static_cast<std::size_t>(path[static_cast<std::size_t>((i + 1) % 4)])]);
-            if (!x) return;
-            ccw[static_cast<std::size_t>(i)] = *x;  // corner between side i and side i+1
-          }
-          if (!acceptable(ccw, opt)) return;
+          if (winding < opt.winding_min || winding > opt.winding_max) continue;
+          const auto closing = line_intersection(last, first);
+          if (!closing) continue;
+          // ccw[i]: the corner between side i and side i + 1.
+          const Corners ccw = {c1.corner, c2.corner, c3.corner, *closing};
+          if (!acceptable(ccw, opt)) continue;
+          if (opt.segments_on_sides && (!on_side(s0, ccw[3], ccw[0]) || !on_side(s3, ccw[2], ccw[3]))) continue;
           Quad q;
           // Clockwise on screen for the tag corner convention: reverse the counter-clockwise order.
           q.corners = {ccw[3], ccw[2], ccw[1], ccw[0]};
           q.segments = path;
           for (const int k : path) q.observed_perimeter += segs[static_cast<std::size_t>(k)].length;
           quads.push_back(q);
-        });
-      });
-    });
+        }
+      }
+    }
   }
   return quads;
 }
