@@ -6,10 +6,29 @@
 // So cell (row y, column x) is bit d*d-1-(y*d+x).
 #include <bit>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 
 namespace tagbench {
 
 using Code = std::uint64_t;
+
+// "0x1f": how codes are written in family files and messages.
+inline std::string hex_code(Code c) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "0x%llx", static_cast<unsigned long long>(c));
+  return buf;
+}
+
+// Decimal text of a 128-bit count (candidate indices of 64-bit payloads need 65 bits).
+inline std::string to_decimal(unsigned __int128 v) {
+  std::string s;
+  do {
+    s.insert(s.begin(), static_cast<char>('0' + static_cast<int>(v % 10)));
+    v /= 10;
+  } while (v);
+  return s;
+}
 
 constexpr Code low_mask(int nbits) { return nbits >= 64 ? ~Code{0} : (Code{1} << nbits) - 1; }
 

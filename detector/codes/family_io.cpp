@@ -80,22 +80,6 @@ long long get_int(const HeaderFile& f, const std::string& key, const std::string
   return v;
 }
 
-std::string hex(Code c) {
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "0x%llx", static_cast<unsigned long long>(c));
-  return buf;
-}
-
-std::string u128_to_string(unsigned __int128 v) {
-  if (v == 0) return "0";
-  std::string s;
-  while (v) {
-    s.insert(s.begin(), static_cast<char>('0' + static_cast<int>(v % 10)));
-    v /= 10;
-  }
-  return s;
-}
-
 }  // namespace
 
 std::optional<Code> parse_hex_code(const std::string& token) {
@@ -151,7 +135,7 @@ std::string format_family(const TagFamily& family, const std::vector<std::string
   if (!i.order.empty()) o << "order: " << i.order << "\n";
   if (!i.generator.empty()) o << "generator: " << i.generator << "\n";
   o << "count: " << family.size() << "\n";
-  for (const Code c : family.codes()) o << hex(c) << "\n";
+  for (const Code c : family.codes()) o << hex_code(c) << "\n";
   return o.str();
 }
 
@@ -170,7 +154,7 @@ std::string format_family_cpp(const TagFamily& family) {
     << "inline constexpr int " << ident << "_min_hamming = " << i.min_hamming << ";\n"
     << "inline constexpr std::uint64_t " << ident << "_codes[" << family.size() << "] = {\n";
   for (std::size_t k = 0; k < family.size(); ++k)
-    o << (k % 6 == 0 ? "    " : " ") << hex(family.codes()[k]) << "ULL," << (k % 6 == 5 || k + 1 == family.size() ? "\n" : "");
+    o << (k % 6 == 0 ? "    " : " ") << hex_code(family.codes()[k]) << "ULL," << (k % 6 == 5 || k + 1 == family.size() ? "\n" : "");
   o << "};\n";
   return o.str();
 }
@@ -180,9 +164,9 @@ std::string format_checkpoint(const LexicodeParams& p, const LexicodeState& s) {
   o << "# tagbench lexicode checkpoint: resume with `tagbench family generate ... --checkpoint FILE --resume`\n"
     << "status: partial\nbits: " << p.bits << "\nhamming: " << p.min_hamming << "\ncomplexity: " << p.resolved_complexity()
     << "\nseed: " << p.resolved_seed() << "\norder: " << to_string(p.order) << "\ngenerator: tagbench-lexicode "
-    << kGeneratorVersion << "\nnext_index: " << u128_to_string(s.next_index) << "\nelapsed_seconds: "
+    << kGeneratorVersion << "\nnext_index: " << to_decimal(s.next_index) << "\nelapsed_seconds: "
     << static_cast<long long>(s.elapsed_seconds * 1000) << "e-3\ncount: " << s.codes.size() << "\n";
-  for (const Code c : s.codes) o << hex(c) << "\n";
+  for (const Code c : s.codes) o << hex_code(c) << "\n";
   return o.str();
 }
 

@@ -12,11 +12,6 @@
 namespace tagbench {
 
 namespace {
-std::string hex(Code c) {
-  char buf[24];
-  std::snprintf(buf, sizeof buf, "0x%llx", static_cast<unsigned long long>(c));
-  return buf;
-}
 int width_of(int bits) {
   for (int d = 1; d <= 8; ++d)
     if (d * d == bits) return d;
@@ -39,7 +34,7 @@ TagFamily::TagFamily(FamilyInfo info, std::vector<Code> codes, bool check_distan
   exact_.reserve(codes_.size() * 4);
   for (std::size_t id = 0; id < codes_.size(); ++id) {
     if (codes_[id] & ~mask)
-      throw std::invalid_argument(who + "code " + std::to_string(id) + " " + hex(codes_[id]) + " has more than " +
+      throw std::invalid_argument(who + "code " + std::to_string(id) + " " + hex_code(codes_[id]) + " has more than " +
                                   std::to_string(info_.bits) + " bits");
     Code r = codes_[id];
     for (int k = 0; k < 4; ++k, r = rotate90(r, d_)) {
@@ -52,13 +47,13 @@ TagFamily::TagFamily(FamilyInfo info, std::vector<Code> codes, bool check_distan
     std::vector<Code> sorted = codes_;
     std::sort(sorted.begin(), sorted.end());
     const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
-    if (dup != sorted.end()) throw std::invalid_argument(who + "duplicate code " + hex(*dup));
+    if (dup != sorted.end()) throw std::invalid_argument(who + "duplicate code " + hex_code(*dup));
   }
   if (check_distance) {
     for (std::size_t id = 0; id < codes_.size(); ++id) {
       const Code c = codes_[id];
       if (self_rotation_distance(c, d_) < info_.min_hamming)
-        throw std::invalid_argument(who + "code " + std::to_string(id) + " " + hex(c) +
+        throw std::invalid_argument(who + "code " + std::to_string(id) + " " + hex_code(c) +
                                     " is closer than h=" + std::to_string(info_.min_hamming) + " to its own rotation");
       // Codes before id, all rotations: each unordered pair once.
       const auto hit = first_within(std::span<const Code>(words_.data(), 4 * id), c, info_.min_hamming - 1);

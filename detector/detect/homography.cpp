@@ -24,6 +24,17 @@ std::optional<Eigen::Matrix3d> normaliser(std::span<const Eigen::Vector2d> pts) 
   return T;
 }
 
+// Undoes the normalisations and scales H to unit Frobenius norm with H(2,2) >= 0.
+std::optional<Eigen::Matrix3d> denormalise(const Eigen::Matrix3d& Hn, const Eigen::Matrix3d& Tf,
+                                           const Eigen::Matrix3d& Tt) {
+  Eigen::Matrix3d H = Tt.inverse() * Hn * Tf;
+  const double norm = H.norm();
+  if (!(norm > 0) || !std::isfinite(norm)) return std::nullopt;
+  H /= norm;
+  if (H(2, 2) < 0) H = -H;
+  return H;
+}
+
 }  // namespace
 
 const Corners& tag_square_corners() {
@@ -58,12 +69,7 @@ std::optional<Eigen::Matrix3d> homography_dlt(std::span<const Eigen::Vector2d> f
     const Eigen::Matrix<double, 8, 1> h = lu.solve(b);
     Eigen::Matrix3d Hn;
     Hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), 1.0;
-    Eigen::Matrix3d H = Tt->inverse() * Hn * *Tf;
-    const double norm = H.norm();
-    if (!(norm > 0) || !std::isfinite(norm)) return std::nullopt;
-    H /= norm;
-    if (H(2, 2) < 0) H = -H;
-    return H;
+    return denormalise(Hn, *Tf, *Tt);
   }
   Eigen::MatrixXd A(2 * n, 9);
   for (std::size_t i = 0; i < n; ++i) {
@@ -81,12 +87,7 @@ std::optional<Eigen::Matrix3d> homography_dlt(std::span<const Eigen::Vector2d> f
   const Eigen::VectorXd h = svd.matrixV().col(8);
   Eigen::Matrix3d Hn;
   Hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
-  Eigen::Matrix3d H = Tt->inverse() * Hn * *Tf;
-  const double norm = H.norm();
-  if (!(norm > 0) || !std::isfinite(norm)) return std::nullopt;
-  H /= norm;
-  if (H(2, 2) < 0) H = -H;
-  return H;
+  return denormalise(Hn, *Tf, *Tt);
 }
 
 std::optional<Eigen::Matrix3d> tag_homography(const Corners& image_corners) {
