@@ -126,11 +126,21 @@ std::vector<Quad> find_quads(const std::vector<Segment>& segs, const QuadSearchO
       if (x) children[parent].push_back({child, *x});
     });
   }
-  // Whether segment k's midpoint projects between corners a and b of its side.
+  // Whether segment k lies on its side from corner a to corner b: the side runs the segment's way and
+  // the segment's midpoint projects between a and b.
   const auto on_side = [&](int k, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     const Segment& sg = segs[static_cast<std::size_t>(k)];
+    const Eigen::Vector2d d = sg.p1 - sg.p0;
+    if (!((b - a).dot(d) > 0)) return false;
     const double t = (0.5 * (sg.p0 + sg.p1) - a).dot(b - a) / (b - a).squaredNorm();
     return t >= 0 && t <= 1;
+  };
+  // Half of that test when only one corner is known yet: the midpoint lies before the side's end
+  // corner (ends = true) or after its start corner (ends = false), along the segment's direction.
+  const auto before_or_after = [&](int k, const Eigen::Vector2d& corner, bool ends) {
+    const Segment& sg = segs[static_cast<std::size_t>(k)];
+    const double s = (corner - 0.5 * (sg.p0 + sg.p1)).dot(sg.p1 - sg.p0);
+    return ends ? s >= 0 : s <= 0;
   };
   for (int s0 = 0; s0 < static_cast<int>(segs.size()) && quads.size() < opt.max_quads; ++s0) {
     path[0] = s0;
@@ -138,12 +148,16 @@ std::vector<Quad> find_quads(const std::vector<Segment>& segs, const QuadSearchO
       // Each quad is found from each of its four segments: keep the search rooted at the smallest index.
       const int s1 = c1.index;
       if (s1 <= s0) continue;
+      // Corner c1 ends side s0 and starts side s1.
+      if (opt.segments_on_sides && (!before_or_after(s0, c1.corner, true) || !before_or_after(s1, c1.corner, false)))
+        continue;
       path[1] = s1;
       for (const Child& c2 : children[static_cast<std::size_t>(s1)]) {
         const int s2 = c2.index;
         if (s2 <= s0 || s2 == s1) continue;
         // Side s1's corners are fixed once s2 is chosen: prune here what the final check would refuse.
-        if (opt.segments_on_sides && !on_side(s1, c1.corner, c2.corner)) continue;
+        if (opt.segments_on_sides && (!on_side(s1, c1.corner, c2.corner) || !before_or_after(s2, c2.corner, false)))
+          continue;
         path[2] = s2;
         for (const Child& c3 : children[static_cast<std::size_t>(s2)]) {
           const int s3 = c3.index;

@@ -33,9 +33,11 @@ struct QuadSearchOptions {
   double winding_min = -7.0, winding_max = -5.0;  // sum of the four turning angles, radians (NOTES)
   double grid_cell = 10.0;         // px, lookup grid cell (NOTES)
   std::size_t max_quads = 200000;  // a hard cap so adversarial images cannot explode the search
-  // Beyond the paper: each segment must lie on its own side of the quad (its midpoint projects between
-  // that side's two corners). The paper's generous radius otherwise joins lines of unrelated objects
-  // into thousands of quads per frame; a real side, even partly occluded, always satisfies this.
+  // Beyond the paper: each segment must lie on its own side of the quad (the side runs the segment's
+  // way, dark on the left, and the segment's midpoint projects between the side's two corners). The
+  // paper's generous radius otherwise joins lines of unrelated objects into thousands of quads per
+  // frame; a real side, even partly occluded, always satisfies this. Checked as early as the corners
+  // are known (from depth 2), which also prunes the search.
   bool segments_on_sides = true;
 };
 
