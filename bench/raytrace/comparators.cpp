@@ -1,0 +1,270 @@
+#include "raytrace/comparators.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <apriltag/apriltag.h>
+#include <apriltag/apriltag_pose.h>
+#include <apriltag/tag16h5.h>
+#include <apriltag/tag25h9.h>
+#include <apriltag/tag36h10.h>
+#include <apriltag/tag36h11.h>
+#include <opencv2/aruco.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "detect/detector.hpp"
+
+namespace tagbench {
+
+DetectorOutput Comparator::run(const cv::Mat& gray8) {
+  if (gray8.empty() || gray8.type() != CV_8UC1) throw std::invalid_argument(name_ + ": needs an 8-bit gray image");
+  const auto t0 = std::chrono::steady_clock::now();
+  DetectorOutput out;
+  out.found = detect(gray8);
+  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+namespace {
+
+bool wants_pose(const ComparatorSetup& s) { return s.camera.has_value(); }
+
+void check_setup(const ComparatorSetup& s) {
+  if (s.camera && (!s.camera->valid() || !(s.tag_size > 0) || !std::isfinite(s.tag_size)))
+    throw std::invalid_argument("a pose needs valid intrinsics and a tag size > 0");
+}
+
+// The family name without a "tag" prefix ("tag36h11" -> "36h11").
+std::string short_family(const std::string& f) { return f.rfind("tag", 0) == 0 ? f.substr(3) : f; }
+
+// ---- ours ------------------------------------------------------------------------------------------
+
+class Ours final : public Comparator {
+ public:
+  Ours(std::string name, const ComparatorSetup& s, bool half) : Comparator(std::move(name)), detector_(options(s, half)) {}
+
+ private:
+  static DetectorOptions options(const ComparatorSetup& s, bool half) {
+    DetectorOptions o;
+    o.families = {s.family};
+    o.half_resolution = half;
+    if (wants_pose(s)) {
+      o.camera = *s.camera;
+      o.tag_size = s.tag_size;
+    }
+    return o;
+  }
+
+  std::vector<Found> detect(const cv::Mat& gray8) override {
+    std::vector<Found> out;
+    for (const Detection& d : detector_.detect(gray8)) {
+      Found f;
+      f.family = d.family;
+      f.id = d.id;
+      f.hamming = d.hamming;
+      f.corners = d.corners;
+      if (d.pose) f.pose = d.pose->pose;
+      out.push_back(std::move(f));
+    }
+    return out;
+  }
+
+  Detector detector_;
+};
+
+// ---- libapriltag 3.3 --------------------------------------------------------------------------------
+
+struct AprilFamily {
+  apriltag_family_t* (*create)();
+  void (*destroy)(apriltag_family_t*);
+};
+
+AprilFamily april_family(const std::string& name) {
+  if (name == "16h5") return {tag16h5_create, tag16h5_destroy};
+  if (name == "25h9") return {tag25h9_create, tag25h9_destroy};
+  if (name == "36h10") return {tag36h10_create, tag36h10_destroy};
+  if (name == "36h11") return {tag36h11_create, tag36h11_destroy};
+  throw std::invalid_argument("libapriltag has no family '" + name + "' (16h5, 25h9, 36h10, 36h11)");
+}
+
+class LibAprilTag final : public Comparator {
+ public:
+  LibAprilTag(std::string name, const ComparatorSetup& s, float decimate)
+      : Comparator(std::move(name)), setup_(s), family_name_(short_family(s.family)), fam_(april_family(family_name_)) {
+    tf_ = fam_.create();
+    td_ = apriltag_detector_create();
+    apriltag_detector_add_family(td_, tf_);  // its default: 2 corrected bits
+    td_->quad_decimate = decimate;
+    td_->nthreads = 1;
+  }
+  ~LibAprilTag() override {
+    apriltag_detector_destroy(td_);
+    fam_.destroy(tf_);
+  }
+  LibAprilTag(const LibAprilTag&) = delete;
+  LibAprilTag& operator=(const LibAprilTag&) = delete;
+
+ private:
+  std::vector<Found> detect(const cv::Mat& gray8) override {
+    image_u8_t im{gray8.cols, gray8.rows, static_cast<std::int32_t>(gray8.step), gray8.data};
+    zarray_t* dets = apriltag_detector_detect(td_, &im);
+    std::vector<Found> out;
+    for (int i = 0; i < zarray_size(dets); ++i) {
+      apriltag_detection_t* det = nullptr;
+      zarray_get(dets, i, &det);
+      Found f;
+      f.family = family_name_;
+      f.id = det->id;
+      f.hamming = det->hamming;
+      // Its p[0..3] are the printed BL, BR, TR, TL, in "pixel i covers [i, i+1)".
+      for (int k = 0; k < 4; ++k)
+        f.corners[static_cast<std::size_t>(k)] = Eigen::Vector2d(det->p[3 - k][0] - 0.5, det->p[3 - k][1] - 0.5);
+      if (wants_pose(setup_)) {
+        apriltag_detection_info_t info{det, setup_.tag_size, setup_.camera->fx, setup_.camera->fy,
+                                       setup_.camera->cx + 0.5, setup_.camera->cy + 0.5};
+        apriltag_pose_t pose{nullptr, nullptr};
+        estimate_tag_pose(&info, &pose);
+        if (pose.R && pose.t) {
+          Pose p;
+          for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) p.R(r, c) = MATD_EL(pose.R, r, c);
+            p.t(r) = MATD_EL(pose.t, r, 0);
+          }
+          if (p.R.allFinite() && p.t.allFinite()) f.pose = p;  // its tag frame is ours
+        }
+        std::free(pose.R);  // matd_destroy is not exported; a matd_t is one allocation
+        std::free(pose.t);
+      }
+      out.push_back(std::move(f));
+    }
+    apriltag_detections_destroy(dets);
+    return out;
+  }
+
+  ComparatorSetup setup_;
+  std::string family_name_;
+  AprilFamily fam_;
+  apriltag_family_t* tf_ = nullptr;
+  apriltag_detector_t* td_ = nullptr;
+};
+
+// ---- OpenCV aruco ------------------------------------------------------------------------------------
+
+cv::aruco::PREDEFINED_DICTIONARY_NAME aruco_dictionary(const std::string& name) {
+  if (name == "16h5") return cv::aruco::DICT_APRILTAG_16h5;
+  if (name == "25h9") return cv::aruco::DICT_APRILTAG_25h9;
+  if (name == "36h10") return cv::aruco::DICT_APRILTAG_36h10;
+  if (name == "36h11") return cv::aruco::DICT_APRILTAG_36h11;
+  throw std::invalid_argument("OpenCV aruco has no AprilTag dictionary for '" + name + "' (16h5, 25h9, 36h10, 36h11)");
+}
+
+class Aruco final : public Comparator {
+ public:
+  Aruco(std::string name, const ComparatorSetup& s)
+      : Comparator(std::move(name)),
+        setup_(s),
+        family_name_(short_family(s.family)),
+        dict_(cv::aruco::getPredefinedDictionary(aruco_dictionary(family_name_))),
+        params_(cv::aruco::DetectorParameters::create()) {
+    params_->cornerRefinementMethod = cv::aruco::CORNER_REFINE_APRILTAG;
+    if (wants_pose(s)) {
+      camera_ = (cv::Mat_<double>(3, 3) << s.camera->fx, 0, s.camera->cx, 0, s.camera->fy, s.camera->cy, 0, 0, 1);
+      // Its marker's corners in its frame (x right, y up, z out of the face), as estimatePoseSingleMarkers has them.
+      const float h = static_cast<float>(s.tag_size / 2);
+      object_ = {{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0}};
+    }
+  }
+
+ private:
+  std::vector<Found> detect(const cv::Mat& gray8) override {
+    std::vector<std::vector<cv::Point2f>> corners;
+    std::vector<int> ids;
+    cv::aruco::detectMarkers(gray8, dict_, corners, ids, params_);
+    std::vector<Found> out;
+    const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, -1).asDiagonal();
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      Found f;
+      f.family = family_name_;
+      f.id = ids[i];
+      // Its corner 0 is its marker's top-left, which is the official tag's bottom-right; [i, i+1) pixels.
+      std::vector<cv::Point2f> centred(4);
+      for (std::size_t k = 0; k < 4; ++k) centred[k] = corners[i][k] - cv::Point2f(0.5f, 0.5f);
+      for (std::size_t k = 0; k < 4; ++k) {
+        const cv::Point2f& c = centred[(k + 2) % 4];
+        f.corners[k] = Eigen::Vector2d(c.x, c.y);
+      }
+      if (wants_pose(setup_)) {
+        cv::Mat rvec, tvec;
+        if (cv::solvePnP(object_, centred, camera_, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE_SQUARE)) {
+          cv::Mat Rcv;
+          cv::Rodrigues(rvec, Rcv);
+          Eigen::Matrix3d Ra;
+          Eigen::Vector3d t;
+          cv::cv2eigen(Rcv, Ra);
+          cv::cv2eigen(tvec, t);
+          Pose p;
+          p.R = Ra * flip;  // X_aruco = diag(-1, 1, -1) X_ours
+          p.t = t;
+          if (p.R.allFinite() && p.t.allFinite()) f.pose = p;
+        }
+      }
+      out.push_back(std::move(f));
+    }
+    return out;
+  }
+
+  ComparatorSetup setup_;
+  std::string family_name_;
+  cv::Ptr<cv::aruco::Dictionary> dict_;
+  cv::Ptr<cv::aruco::DetectorParameters> params_;
+  cv::Mat camera_;
+  std::vector<cv::Point3f> object_;
+};
+
+}  // namespace
+
+const std::vector<std::string>& comparator_names() {
+  static const std::vector<std::string> names{"tagbench-full", "tagbench-half", "libapriltag-d1", "libapriltag-d2",
+                                              "aruco"};
+  return names;
+}
+
+std::unique_ptr<Comparator> make_comparator(const std::string& name, const ComparatorSetup& setup) {
+  check_setup(setup);
+  if (name == "tagbench-full") return std::make_unique<Ours>(name, setup, false);
+  if (name == "tagbench-half") return std::make_unique<Ours>(name, setup, true);
+  if (name == "libapriltag-d1") return std::make_unique<LibAprilTag>(name, setup, 1.0f);
+  if (name == "libapriltag-d2") return std::make_unique<LibAprilTag>(name, setup, 2.0f);
+  if (name == "aruco") return std::make_unique<Aruco>(name, setup);
+  std::string known;
+  for (const auto& n : comparator_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown detector '" + name + "' (known: " + known + ")");
+}
+
+FoundErrors found_errors(const Found& found, const GroundTruth& truth) {
+  FoundErrors e;
+  double sq = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const double d = (found.corners[k] - truth.corners[k]).norm();
+    sq += d * d;
+    e.corner_max_px = std::max(e.corner_max_px, d);
+  }
+  e.corner_rms_px = std::sqrt(sq / 4);
+  if (found.pose) {
+    e.orientation_deg = rotation_angle_deg(found.pose->R, truth.pose.R);
+    const double true_dist = truth.pose.t.norm();
+    e.distance_m = std::abs(found.pose->t.norm() - true_dist);
+    e.distance_percent = 100 * e.distance_m / true_dist;
+  } else {
+    e.orientation_deg = e.distance_m = e.distance_percent = std::numeric_limits<double>::quiet_NaN();
+  }
+  return e;
+}
+
+}  // namespace tagbench

@@ -1,0 +1,93 @@
+#pragma once
+// The detectors compared in the localization experiments, behind one interface, every result in our
+// conventions (README "Conventions"): corners are the black square's printed top-left, top-right,
+// bottom-right, bottom-left with pixel centres at integer coordinates; a pose (R, t) maps tag points
+// (origin at the centre, x toward the printed right edge, y toward the bottom edge, z into the tag)
+// into the camera frame (x right, y down, z forward), metres.
+//
+//   tagbench-full    our detector (detect/detector.hpp), full resolution
+//   tagbench-half    our detector segmenting at half resolution
+//   libapriltag-d1   AprilTag 3.3 (libapriltag), quad_decimate 1, nthreads 1, its other defaults
+//                    (refine_edges 1, decode_sharpening 0.25, 2 corrected bits); pose by its estimate_tag_pose
+//   libapriltag-d2   the same at quad_decimate 2 (its default)
+//   aruco            OpenCV 4.6 aruco, DICT_APRILTAG_<family>, CORNER_REFINE_APRILTAG; pose as
+//                    estimatePoseSingleMarkers computes it (its marker corners and frame), by
+//                    cv::solvePnP with SOLVEPNP_IPPE_SQUARE
+//
+// The conversions (each proved on ray-traced frames by tests/test_comparators.cpp):
+//   libapriltag: corners in "pixel i covers [i, i+1)": minus 0.5. Its p[0..3] wrap the tag
+//     counter-clockwise as seen in the image starting at the printed bottom-left: (BL, BR, TR, TL), so
+//     ours are p[3], p[2], p[1], p[0]. estimate_tag_pose gets the principal point in its own pixel
+//     convention (cx + 0.5, cy + 0.5); its tag frame is ours (x right, y down, z into the tag), so R, t
+//     are taken as they are.
+//   aruco: corners with CORNER_REFINE_APRILTAG in the [i, i+1) convention: minus 0.5. Its AprilTag
+//     dictionaries hold the official tags turned 180 degrees, so its corner 0 (top-left of its marker)
+//     is our printed bottom-right: ours are c[2], c[3], c[0], c[1]. Its marker frame has x toward its
+//     marker's right, y toward its top, z out of the face; with the 180-degree turn, X_aruco =
+//     diag(-1, 1, -1) X_ours, so R_ours = R_aruco diag(-1, 1, -1) and t is the same point (the centre).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "detect/homography.hpp"
+#include "detect/pose.hpp"
+#include "raytrace/render.hpp"
+
+namespace cv {
+class Mat;
+}
+
+namespace tagbench {
+
+struct Found {
+  std::string family;
+  int id = -1;
+  int hamming = -1;           // bits corrected; -1 when the detector does not report it (aruco: exact matches only)
+  Corners corners;            // our convention (above)
+  std::optional<Pose> pose;   // our frames; when the camera and the tag size were given
+};
+
+struct DetectorOutput {
+  std::vector<Found> found;
+  double ms = 0;  // wall time of detection and pose estimation (and the conversions), this thread
+};
+
+struct ComparatorSetup {
+  std::string family = "36h11";            // one family; libapriltag and aruco know 16h5, 25h9, 36h10, 36h11
+  std::optional<CameraIntrinsics> camera;  // with tag_size > 0: poses (pixel centres at integers)
+  double tag_size = 0;                     // black square, metres
+};
+
+class Comparator {
+ public:
+  virtual ~Comparator() = default;
+  const std::string& name() const { return name_; }
+  // Detects in an 8-bit gray image and times it. Not thread-safe: one object per thread. For
+  // single-threaded timings call cv::setNumThreads(1) first (aruco uses OpenCV's thread pool).
+  DetectorOutput run(const cv::Mat& gray8);
+
+ protected:
+  explicit Comparator(std::string name) : name_(std::move(name)) {}
+  virtual std::vector<Found> detect(const cv::Mat& gray8) = 0;
+
+ private:
+  std::string name_;
+};
+
+// "tagbench-full", "tagbench-half", "libapriltag-d1", "libapriltag-d2", "aruco".
+const std::vector<std::string>& comparator_names();
+
+// Throws std::invalid_argument for an unknown name, a family the detector does not support, or a
+// camera without a valid tag size.
+std::unique_ptr<Comparator> make_comparator(const std::string& name, const ComparatorSetup& setup);
+
+// A detection against the ground truth: the per-frame measures.
+struct FoundErrors {
+  double corner_rms_px = 0, corner_max_px = 0;  // over the four corners, in printed order
+  // With a pose (NaN otherwise): the angle of R_est^T R_true; | |t_est| - |t_true| | in metres and in % of |t_true|.
+  double orientation_deg = 0, distance_m = 0, distance_percent = 0;
+};
+FoundErrors found_errors(const Found& found, const GroundTruth& truth);
+
+}  // namespace tagbench
