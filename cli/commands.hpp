@@ -14,6 +14,7 @@ int cmd_codes(const Words& args);
 int cmd_generator_speed(const Words& args);
 int cmd_scene(const Words& args);
 int cmd_detect(const Words& args);
+int cmd_raytrace(const Words& args);
 
 // True (and the help printed to stdout) when args ask for help.
 bool wants_help(const Words& args, const char* help_text);

@@ -20,6 +20,8 @@ Commands:
   generator-speed
             time the lexicode generator (results/generator_speed.csv)
   scene     a synthetic image with tags at known corners (PNG + JSON ground truth)
+  raytrace  the localization experiments on POV-Ray frames: angle (Fig. 9), distance (Fig. 10),
+            conditions (noise, blur, lighting, occlusion, bending, lens distortion), five detectors
 
 Run 'tagbench <command> --help' for a command's options.
 Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).
@@ -37,6 +39,7 @@ constexpr Command kCommands[] = {
     {"codes", tagbench::cli::cmd_codes},
     {"generator-speed", tagbench::cli::cmd_generator_speed},
     {"scene", tagbench::cli::cmd_scene},
+    {"raytrace", tagbench::cli::cmd_raytrace},
 };
 
 }  // namespace

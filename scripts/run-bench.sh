@@ -35,5 +35,13 @@ TAGBENCH_CPU="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ */
   "$PY" scripts/speed_to_csv.py "$tmp" results/speed.csv
 cp "$tmp" results/speed.json.tmp && mv results/speed.json.tmp results/speed.json
 
+echo "bench: ray-traced localization (paper Figs. 9 and 10, and conditions beyond the paper)" >&2
+# Frames are cached in $BUILD/raytrace-cache: a rerun renders nothing, an interrupted run resumes.
+RT_CACHE=$BUILD/raytrace-cache
+"$BIN" raytrace angle --trials 50 --cache "$RT_CACHE" --out results
+"$BIN" raytrace distance --trials 50 --cache "$RT_CACHE" --out results
+"$BIN" raytrace conditions --trials 50 --cache "$RT_CACHE" --out results
+"$PY" scripts/plot_raytrace.py results angle distance conditions
+
 "$PY" scripts/update_readme.py README.md results
 echo "bench: results/ and README.md updated" >&2

@@ -90,8 +90,105 @@ def speed(d):
                   "Ours / libapriltag", "Candidate quads"], body)
 
 
+RT_NAMES = {"tagbench-full": "ours, full resolution", "tagbench-half": "ours, half resolution",
+            "libapriltag-d1": "libapriltag 3.3, decimate 1", "libapriltag-d2": "libapriltag 3.3, decimate 2",
+            "aruco": "OpenCV 4.6 aruco"}
+
+
+def _median(values):
+    v = sorted(values)
+    if not v:
+        return None
+    mid = (len(v) - 1) / 2
+    return (v[int(mid)] + v[int(mid + 0.5)]) / 2
+
+
+def _detectors(rows):
+    seen = []
+    for r in rows:
+        if r["detector"] not in seen:
+            seen.append(r["detector"])
+    return seen
+
+
+def _falls_below(summary, detector, rate, unit, px=False):
+    """The first step where the detector's rate is below `rate`, as text (with the black square's px)."""
+    for r in sorted((r for r in summary if r["detector"] == detector), key=lambda r: float(r["step"])):
+        if float(r["detection_rate"]) < rate:
+            text = f'{float(r["step"]):g}{unit}'
+            return text + (f' ({float(r["black_square_px_median"]):.1f} px)' if px else "")
+    return "never"
+
+
+def _last_at_least(summary, detector, rate, unit, px=False):
+    """The last step before the first one where the rate is below `rate`."""
+    last = None
+    for r in sorted((r for r in summary if r["detector"] == detector), key=lambda r: float(r["step"])):
+        if float(r["detection_rate"]) < rate:
+            break
+        last = r
+    if last is None:
+        return "-"
+    return f'{float(last["step"]):g}{unit}' + (f' ({float(last["black_square_px_median"]):.1f} px)' if px else "")
+
+
+def _median_error(rows, detector, column, keep):
+    vals = [float(r[column]) for r in rows
+            if r["detector"] == detector and r["detected_right_id"] == "1" and r[column] != "" and keep(r)]
+    m = _median(vals)
+    return "-" if m is None else f"{m:.3g}"
+
+
+def raytrace_summary(d):
+    angle_rows = rows(os.path.join(d, "fig9_angle.csv"))
+    angle_sum = rows(os.path.join(d, "fig9_angle_summary.csv"))
+    dist_rows = rows(os.path.join(d, "fig10_distance.csv"))
+    dist_sum = rows(os.path.join(d, "fig10_distance_summary.csv"))
+    body = []
+    for det in _detectors(angle_sum):
+        upto60 = [r for r in angle_rows if r["detector"] == det and float(r["step"]) <= 60]
+        rate60 = 100 * sum(r["detected_right_id"] == "1" for r in upto60) / max(1, len(upto60))
+        wrong = sum(int(r["wrong_id_frames"]) for r in angle_sum + dist_sum if r["detector"] == det)
+        body.append([RT_NAMES.get(det, det), f"{rate60:.1f}", _falls_below(angle_sum, det, 0.5, "°"),
+                     _median_error(angle_rows, det, "orientation_error_deg", lambda r: float(r["step"]) <= 60),
+                     _median_error(angle_rows, det, "distance_error_percent", lambda r: float(r["step"]) <= 60),
+                     _last_at_least(dist_sum, det, 0.99, " m", px=True),
+                     _falls_below(dist_sum, det, 0.5, " m", px=True),
+                     _median_error(dist_rows, det, "orientation_error_deg", lambda r: float(r["step"]) <= 10),
+                     _median_error(dist_rows, det, "distance_error_percent", lambda r: float(r["step"]) <= 10),
+                     str(wrong)])
+    return table(["Detector", "Fig. 9: detected at phi 0-60° (%)", "Fig. 9: below 50 % from phi",
+                  "Fig. 9: median orientation error, 0-60° (deg)", "Fig. 9: median distance error, 0-60° (%)",
+                  "Fig. 10: ≥ 99 % detected up to", "Fig. 10: below 50 % from",
+                  "Fig. 10: median orientation error to 10 m (deg)", "Fig. 10: median distance error to 10 m (%)",
+                  "Frames with a wrong id (both)"], body)
+
+
+def raytrace_conditions(d):
+    summary = rows(os.path.join(d, "conditions_summary.csv"))
+    conditions, dets = [], _detectors(summary)
+    for r in summary:
+        if r["condition"] not in conditions:
+            conditions.append(r["condition"])
+    body = []
+    for c in conditions:
+        sel = [r for r in summary if r["condition"] == c]
+        steps = sorted({float(r["step"]) for r in sel})
+        row = [c, f'{sel[0]["step_unit"]}: ' + " / ".join(f"{v:g}" for v in steps)]
+        for det in dets:
+            by_step = {float(r["step"]): r for r in sel if r["detector"] == det}
+            rates = " / ".join(f'{100 * float(by_step[v]["detection_rate"]):.0f}' if v in by_step else "-"
+                               for v in steps)
+            strongest = by_step.get(steps[-1])
+            err = strongest["orientation_error_deg_median"] if strongest else ""
+            row.append(rates + (f" ({float(err):.2g}°)" if err else " (-)"))
+        body.append(row)
+    return table(["Condition", "Strengths"] + [RT_NAMES.get(x, x) for x in dets], body)
+
+
 BLOCKS = {"pending": pending, "speed": speed, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
-          "decode_speed": decode_speed}
+          "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
+          "raytrace_conditions": raytrace_conditions}
 
 
 def main():

@@ -1,0 +1,182 @@
+#pragma once
+// The localization experiments of issue 4 (paper section VI-B, Figs. 9 and 10, and beyond them):
+// ray-traced frames planned from a seed, rendered through render_frames (cached), modified in image
+// space where a condition asks for it, and run through every selected detector (comparators.hpp);
+// one row per frame and detector, and per-step summaries.
+//
+//   angle       (Fig. 9)  the tag at a fixed distance (default 1 m; a 0.166 m black square is then
+//                         66 px wide face-on), the angle phi between its normal and the direction to
+//                         the camera stepped 0..85 degrees; random tilt axis, in-plane rotation, id and
+//                         image position (within 100 px of the centre), the same draws at every step.
+//   distance    (Fig. 10) face-on (phi = 0), a 1 m tag by default, 2..10 m in 1 m steps then 12.5..60 m
+//                         in 2.5 m steps; random in-plane rotation, id and image position (within 20 px).
+//                         1 m is left out: a 1 m black square at 1 m is 400 px, the whole image.
+//   conditions  (beyond)  a base frame per trial (1 m, phi uniform in 0..30 degrees, random axis,
+//                         rotation, id, position within 100 px) under six conditions, each at four
+//                         strengths and a zero-strength baseline that is the plain frame itself:
+//                         noise, blur, gradient, occlusion, bent, distortion (condition_table()).
+//
+// Randomness: every trial's draws come from splitmix64 seeded by (seed, experiment, trial), so a frame
+// does not depend on the steps or the other trials requested, and identical settings give identical
+// frames and rows (all but the timing column).
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "raytrace/comparators.hpp"
+#include "raytrace/render.hpp"
+
+namespace cv {
+class Mat;
+}
+
+namespace tagbench {
+
+enum class Experiment { kAngle, kDistance, kConditions };
+const char* experiment_name(Experiment e);  // "angle", "distance", "conditions"
+
+enum class Condition { kNone, kNoise, kBlur, kGradient, kOcclusion, kBent, kDistortion };
+
+struct ConditionInfo {
+  Condition condition;
+  const char* name;         // "noise", "blur", "gradient", "occlusion", "bent", "distortion"
+  const char* unit;         // what a strength is
+  const char* description;  // how it is made
+  std::vector<double> strengths;  // the zero-strength baseline first
+};
+// The six conditions, in this order: noise, blur, gradient, occlusion, bent, distortion.
+const std::vector<ConditionInfo>& condition_table();
+const ConditionInfo& condition_info(Condition c);
+const char* condition_name(Condition c);  // "none" for kNone
+// Throws std::invalid_argument "unknown condition 'x' (noise, blur, ...)".
+Condition parse_condition(const std::string& name);
+// Throws std::invalid_argument "unknown scene 'x' (plain, realistic)".
+SceneKind parse_scene(const std::string& name);
+// Throws std::invalid_argument "unknown experiment 'x' (angle, distance, conditions)".
+Experiment parse_experiment(const std::string& name);
+
+struct SweepSettings {
+  Experiment experiment = Experiment::kAngle;
+  int trials = 5;                          // frames per step, > 0
+  std::optional<double> tag_size;          // black square, metres; default 0.166 (angle, conditions), 1 (distance)
+  std::uint64_t seed = 1;
+  std::vector<std::string> detectors;      // comparator names; empty: all five
+  SceneKind scene = SceneKind::kPlain;
+  std::vector<double> steps;               // angle: phi in degrees, [0, 90); distance: metres, > 0; empty: defaults
+  std::optional<double> distance;          // angle and conditions: the fixed distance, metres (default 1)
+  std::vector<Condition> conditions;       // conditions: which; empty: all six
+  std::string family = "36h11";            // the one family all five detectors know
+};
+
+// The settings with every default filled in; throws std::invalid_argument with a one-line message for
+// anything out of range (trials <= 0, an angle outside [0, 90), a distance or tag size <= 0, an unknown
+// or repeated detector, steps given to conditions, a distance given to the distance sweep, ...).
+SweepSettings resolve_settings(const SweepSettings& settings);
+std::vector<double> default_steps(Experiment e);
+double position_radius_px(Experiment e);  // how far from the image centre the tag centre may be placed
+
+// What is done to a rendered frame before the detectors see it (noise, blur, gradient, distortion);
+// occlusion and bent are rendered (FramePose::extra_sdl) and need nothing here.
+struct ImageEffect {
+  Condition condition = Condition::kNone;
+  double strength = 0;
+  std::uint64_t seed = 0;      // noise
+  double direction_deg = 0;    // gradient: the direction in the image in which the light falls off
+};
+
+struct SweepFrame {
+  Condition condition = Condition::kNone;  // conditions experiment; kNone otherwise
+  double step = 0;           // phi (deg), distance (m) or strength (condition_info(c).unit)
+  int trial = 0;
+  std::uint64_t seed = 0;    // the trial's seed: all its random draws come from it
+  ViewSpec view;
+  FramePose frame;           // what POV-Ray renders
+  GroundTruth truth;         // corners where they are in the image the detectors get (bent: the bent
+                             // corners; distortion: distorted); pose: the nominal (unbent) pose
+  ImageEffect effect;
+};
+
+// The frames of an experiment (settings resolved first), in order step (or condition and strength),
+// then trial. Throws std::invalid_argument when a frame's whole printed tag would not be inside the
+// image ("the tag does not fit ...").
+std::vector<SweepFrame> plan_sweep(const SweepSettings& settings);
+
+// The angle between a pose's tag normal (out of the printed face, -z) and the direction to the camera.
+double view_angle_deg(const Pose& pose);
+
+// The image the detectors get: the rendered 8-bit gray frame with the frame's effect applied.
+cv::Mat apply_effect(const cv::Mat& gray8, const SweepFrame& frame);
+
+struct SweepRow {
+  std::size_t frame = 0;     // index into SweepResult::frames
+  std::string detector;
+  bool detected_right_id = false, wrong_id = false;
+  // Of the right-id detection (the one nearest the truth if several); NaN when not detected or no pose.
+  double orientation_error_deg, distance_error_m, distance_error_percent, corner_rms_px;
+  double ms = 0;             // the detector's time on this frame, one thread
+};
+
+struct FailedFrame {
+  std::size_t frame = 0;
+  std::string error;         // one line
+};
+
+struct SweepResult {
+  SweepSettings settings;    // resolved
+  std::vector<SweepFrame> frames;
+  std::vector<SweepRow> rows;  // frame order, then detector order; none for frames that failed to render
+  std::vector<FailedFrame> failed;
+  std::size_t distinct_frames = 0, rendered = 0, from_cache = 0;  // distinct renders (as RenderReport)
+  int povray_runs = 0;
+  double render_seconds = 0, detect_seconds = 0;
+};
+
+struct SweepProgress {
+  std::function<void(std::size_t done, std::size_t total)> render;  // frames rendered (or failed) of those missing
+  std::function<void(std::size_t done, std::size_t total)> detect;  // frames through every detector
+  std::function<void(const SweepFrame&, const std::string& error)> failed;  // a frame that did not render
+};
+
+// Plans, renders (render_options.progress is replaced by progress.render), and runs every detector on
+// every frame in this thread with OpenCV at one thread (restored afterwards). Detectors that accept lens
+// distortion get the distortion condition's coefficients: ours (DetectorOptions::distortion) and aruco
+// (its pose, cv::solvePnP IPPE_SQUARE as estimatePoseSingleMarkers with distCoeffs); libapriltag's
+// estimate_tag_pose has no distortion model and gets the pinhole intrinsics only. A frame that fails to
+// render is reported (progress.failed, SweepResult::failed) and the run goes on; when none renders,
+// std::runtime_error. Invalid settings: std::invalid_argument; povray missing: std::runtime_error
+// "povray not found: install the Debian package povray".
+SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_options, const SweepProgress& progress = {});
+
+// Per (condition, step, detector): the issue's summary. Percentiles are over the frames detected with
+// the right id (linear interpolation between order statistics, numpy's default); NaN when none.
+struct ErrorStats {
+  double median, p10, p90;
+};
+struct SummaryRow {
+  Condition condition = Condition::kNone;
+  double step = 0;
+  std::string detector;
+  int frames = 0, detected = 0, wrong_id_frames = 0;
+  double detection_rate = 0, rate_lo95 = 0, rate_hi95 = 0;  // Wilson score interval, z = 1.96
+  double black_square_px_median = 0, ms_median = 0;
+  ErrorStats orientation_deg, distance_m, distance_percent, corner_rms_px;
+};
+std::vector<SummaryRow> summarize(const SweepResult& result);
+
+// The Wilson score interval of k successes in n trials (z = 1.96); {0, 1} when n = 0.
+std::pair<double, double> wilson_interval(int k, int n);
+// The q-quantile (0..1) of values, linear interpolation; NaN for none.
+double quantile(std::vector<double> values, double q);
+
+// The files the CLI writes: rows (one per frame and detector), summaries, and a JSON sidecar with the
+// settings, the conditions' definitions and the render report.
+std::string rows_csv(const SweepResult& result);
+std::string summary_csv(const SweepResult& result, const std::vector<SummaryRow>& summary);
+std::string sidecar_json(const SweepResult& result);
+// "fig9_angle", "fig10_distance", "conditions": the files' stem.
+const char* result_stem(Experiment e);
+
+}  // namespace tagbench

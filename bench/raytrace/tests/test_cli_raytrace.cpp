@@ -1,0 +1,200 @@
+// `tagbench raytrace` end to end (issue 4, sections 2 and 4): a small run writes its three files with
+// one row per frame and detector, a rerun renders nothing and writes the same rows, bad options are
+// refused with one line and no output, a missing POV-Ray is one line naming the package, and a frame
+// that fails to render is reported while the run goes on.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "raytrace/render.hpp"
+#include "test_frames.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch() {
+  const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_cli_raytrace_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+Result run(const std::string& args) {
+  const fs::path out = scratch() / "stdout", err = scratch() / "stderr";
+  const std::string cmd = std::string(TAGBENCH_BIN) + " raytrace " + args + " >" + out.string() + " 2>" +
+                          err.string() + " </dev/null";
+  const int st = std::system(cmd.c_str());
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), slurp(out), slurp(err)};
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+// The rows without the timing column (the last one).
+std::string without_ms(const std::string& csv) {
+  std::string out;
+  for (const auto& l : lines(csv)) out += l.substr(0, l.rfind(',')) + "\n";
+  return out;
+}
+
+std::string common(const fs::path& out) {
+  return "--processes 1 --cache " + tagbench::test::shared_cache().string() + " --out " + out.string();
+}
+
+}  // namespace
+
+TEST(CliRaytrace, HelpNamesTheExperimentsAndTheFiles) {
+  const Result r = run("--help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* s : {"usage: tagbench raytrace angle|distance|conditions", "--trials", "--tag-size", "--seed",
+                        "--detectors", "--scene", "--processes", "--cache", "--out", "fig9_angle.csv",
+                        "fig10_distance.csv", "conditions.csv", "_summary.csv", "66 px"})
+    EXPECT_NE(r.out.find(s), std::string::npos) << s;
+}
+
+TEST(CliRaytrace, BadOptionsAreRefusedWithOneLineAndNoOutput) {
+  const fs::path out = scratch() / "refused";
+  fs::remove_all(out);
+  const std::string o = " --out " + out.string() + " --cache " + (scratch() / "refused-cache").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {"", "which experiment?"},
+      {"height", "unknown experiment 'height'"},
+      {"angle --angles 90", "angle 90 is outside [0, 90) degrees"},
+      {"angle --angles 0,-5", "angle -5 is outside [0, 90) degrees"},
+      {"angle --angles 10,x", "--angles: 'x' is not a finite number"},
+      {"distance --distances 0", "distance must be > 0"},
+      {"distance --distances 5,-2", "distance must be > 0"},
+      {"angle --distance 0", "distance must be > 0"},
+      {"angle --trials 0", "trials must be > 0"},
+      {"conditions --trials -1", "trials must be > 0"},
+      {"angle --tag-size 0", "tag size must be > 0"},
+      {"angle --detectors tagbench-full,zbar", "unknown detector 'zbar'"},
+      {"angle --scene studio", "unknown scene 'studio' (plain, realistic)"},
+      {"conditions --conditions noise,fog", "unknown condition 'fog'"},
+      {"distance --distances 1", "does not fit"},
+      {"angle --distances 5", "--distances belongs to the distance sweep"},
+      {"angle --frobnicate", "unknown option '--frobnicate'"},
+  };
+  for (const auto& [args, fragment] : cases) {
+    const Result r = run(args + o);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << args << "\nstderr: " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+    EXPECT_EQ(r.err.rfind("tagbench raytrace: ", 0), 0u) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+  EXPECT_FALSE(fs::exists(scratch() / "refused-cache")) << "nothing created for refused options";
+}
+
+TEST(CliRaytrace, MissingPovrayIsOneLineNamingThePackage) {
+  const fs::path out = scratch() / "nopovray", cache = scratch() / "nopovray-cache";
+  fs::remove_all(out);
+  fs::remove_all(cache);
+  const Result r = run("angle --trials 1 --angles 10 --detectors tagbench-full --povray /nonexistent/povray --cache " +
+                       cache.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err, "tagbench raytrace: povray not found: install the Debian package povray\n");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliRaytrace, SmallRunWritesRowsSummaryAndSidecarAndARerunRendersNothing) {
+  if (!tagbench::test::have_povray()) GTEST_SKIP() << "povray is not installed";
+  const fs::path a = scratch() / "run-a", b = scratch() / "run-b";
+  fs::remove_all(a);
+  fs::remove_all(b);
+  const std::string args = "angle --trials 2 --angles 0,40 --detectors tagbench-full,aruco ";
+  const Result first = run(args + common(a));
+  ASSERT_EQ(first.code, 0) << first.err;
+  const auto rows = lines(slurp(a / "fig9_angle.csv"));
+  ASSERT_EQ(rows.size(), 1u + 2 * 2 * 2);  // header + frames x detectors
+  EXPECT_EQ(rows[0].rfind("experiment,condition,step,step_unit,trial,seed,", 0), 0u);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].rfind("angle,none,", 0), 0u) << rows[i];
+    EXPECT_TRUE(rows[i].find(",tagbench-full,") != std::string::npos || rows[i].find(",aruco,") != std::string::npos);
+    if (rows[i].find(",tagbench-full,") != std::string::npos) {
+      EXPECT_NE(rows[i].find(",tagbench-full,1,0,"), std::string::npos) << "ours finds it: " << rows[i];
+    }
+  }
+  const auto summary = lines(slurp(a / "fig9_angle_summary.csv"));
+  ASSERT_EQ(summary.size(), 1u + 2 * 2);  // header + steps x detectors
+  EXPECT_NE(summary[0].find("detection_rate,rate_lo95,rate_hi95"), std::string::npos);
+  const std::string json = slurp(a / "fig9_angle.json");
+  EXPECT_NE(json.find("\"detectors\": [\"tagbench-full\", \"aruco\"]"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"steps\": [0, 40]"), std::string::npos) << json;
+
+  // The same settings again (into another folder): nothing rendered, the same rows.
+  const Result second = run(args + common(b));
+  ASSERT_EQ(second.code, 0) << second.err;
+  EXPECT_NE(second.err.find("0 rendered, 4 from the cache, 0 failed"), std::string::npos) << second.err;
+  EXPECT_EQ(without_ms(slurp(b / "fig9_angle.csv")), without_ms(slurp(a / "fig9_angle.csv")));
+  // Another seed: other frames.
+  const Result third = run(args + "--seed 7 " + common(b));
+  ASSERT_EQ(third.code, 0) << third.err;
+  EXPECT_NE(without_ms(slurp(b / "fig9_angle.csv")), without_ms(slurp(a / "fig9_angle.csv")));
+  for (const auto& d : {a, b}) {
+    for (const auto& e : fs::directory_iterator(d)) EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos);
+  }
+}
+
+// A POV-Ray that loses the first frame of its first run (and says so with exit status 1): the frame is
+// reported on stderr and in the sidecar, the other frame's rows are written, and a rerun with the real
+// POV-Ray renders only the lost frame.
+TEST(CliRaytrace, AFrameThatFailsToRenderIsReportedAndTheRunGoesOn) {
+  const auto povray = tagbench::find_povray();
+  if (!povray) GTEST_SKIP() << "povray is not installed";
+  const fs::path dir = scratch() / "failing", cache = dir / "cache", out = dir / "out", fake = dir / "povray-once";
+  fs::remove_all(dir);
+  fs::create_directories(cache);
+  std::ofstream(fake) << "#!/bin/sh\n"
+                         "# runs in the cache directory; the first run loses its first frame\n"
+                      << povray->string() << " \"$@\"\n"
+                         "[ -e lost-once ] && exit 0\n"
+                         ": > lost-once\n"
+                         "for a in \"$@\"; do case $a in +SF*) first=${a#+SF};; esac; done\n"
+                         "for f in tmp-*.png; do n=${f##*-}; n=${n%.png}; n=$(expr $n + 0);"
+                         " [ \"$n\" = \"$first\" ] && rm -f \"$f\"; done\n"
+                         "exit 1\n";
+  fs::permissions(fake, fs::perms::owner_all);
+  const std::string args = "angle --trials 1 --angles 5,35 --detectors tagbench-full --processes 1 --cache " +
+                           cache.string() + " --out " + out.string();
+  const Result r = run(args + " --povray " + fake.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("tagbench raytrace: frame not rendered (phi 5 deg, trial 0): povray exited with status 1"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("1 rendered, 0 from the cache, 1 failed"), std::string::npos) << r.err;
+  const auto rows = lines(slurp(out / "fig9_angle.csv"));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1].rfind("angle,none,35,deg,0,", 0), 0u) << rows[1];
+  const std::string json = slurp(out / "fig9_angle.json");
+  EXPECT_NE(json.find("\"step\": 5, \"trial\": 0, \"error\": \"povray exited with status 1\""), std::string::npos)
+      << json;
+  const Result again = run(args);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.err.find("1 rendered, 1 from the cache, 0 failed"), std::string::npos) << again.err;
+  EXPECT_EQ(lines(slurp(out / "fig9_angle.csv")).size(), 3u);
+  fs::remove_all(dir);
+}

@@ -1,0 +1,537 @@
+// The localization sweeps (issue 4, section 2): the plans put every frame where its step says (phi
+// from the pose, 1/distance pixel widths, the same random draws at every step), bad settings are
+// refused, the image effects do what they claim, and small sweeps run end to end on ray-traced frames:
+// our detector finds every frame at 0-60 degrees with sub-degree, sub-percent errors face-on, the rows
+// and summaries agree, a rerun renders nothing and gives the same rows, and the conditions at zero
+// strength are the plain frames.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Dense>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "raytrace/sweeps.hpp"
+#include "test_frames.hpp"
+
+using namespace tagbench;
+
+namespace {
+
+#define REQUIRE_POVRAY() \
+  if (!test::have_povray()) GTEST_SKIP() << "povray is not installed"
+
+SweepSettings settings(Experiment e, int trials, std::vector<double> steps = {}) {
+  SweepSettings s;
+  s.experiment = e;
+  s.trials = trials;
+  s.steps = std::move(steps);
+  return s;
+}
+
+std::string refusal(const SweepSettings& s) {
+  try {
+    plan_sweep(s);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(not refused)";
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+std::vector<std::string> fields(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (const char c : line + ",") {
+    if (c == ',') {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  return out;
+}
+
+// The CSV without its timing column(s): what must be identical between runs.
+std::string without_timing(const std::string& csv) {
+  const auto ls = lines(csv);
+  const auto header = fields(ls.at(0));
+  std::set<std::size_t> drop;
+  for (std::size_t i = 0; i < header.size(); ++i)
+    if (header[i] == "ms" || header[i] == "ms_median") drop.insert(i);
+  std::string out;
+  for (const auto& l : ls) {
+    const auto f = fields(l);
+    for (std::size_t i = 0; i < f.size(); ++i)
+      if (!drop.count(i)) out += f[i] + ",";
+    out += "\n";
+  }
+  return out;
+}
+
+RenderOptions options() { return test::gentle_options(test::shared_cache()); }
+
+const SweepRow& row_for(const SweepResult& r, std::size_t frame, const std::string& detector) {
+  for (const auto& row : r.rows)
+    if (row.frame == frame && row.detector == detector) return row;
+  throw std::runtime_error("no row");
+}
+
+}  // namespace
+
+// ---- plans (no rendering) ------------------------------------------------------------------------------
+
+TEST(SweepPlan, AngleFramesHaveTheRequestedPhiAtTheFixedDistanceWithTheSameDrawsAtEveryStep) {
+  const auto frames = plan_sweep(settings(Experiment::kAngle, 4));
+  ASSERT_EQ(frames.size(), 18u * 4);
+  const CameraIntrinsics K = render_camera();
+  std::map<int, const SweepFrame*> first_of_trial;
+  std::set<int> ids;
+  for (const auto& f : frames) {
+    // phi from the pose itself: the angle between the tag's normal and the direction to the camera.
+    const Eigen::Vector3d normal = -f.frame.pose.R.col(2), to_camera = -f.frame.pose.t.normalized();
+    const double phi = std::acos(std::clamp(normal.dot(to_camera), -1.0, 1.0)) * 180 / M_PI;
+    EXPECT_NEAR(phi, f.step, 1e-5) << "trial " << f.trial;  // acos near 1: ~1e-6 degrees of rounding
+    EXPECT_NEAR(view_angle_deg(f.frame.pose), f.step, 1e-9);
+    EXPECT_NEAR(f.frame.pose.t.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(f.frame.tag_size, 0.166, 0);
+    EXPECT_EQ(f.frame.family, "36h11");
+    EXPECT_TRUE(f.frame.extra_sdl.empty());
+    EXPECT_EQ(f.effect.condition, Condition::kNone);
+    // The tag centre is where the view puts it, within the position radius.
+    const Eigen::Vector3d& t = f.frame.pose.t;
+    const Eigen::Vector2d centre(K.fx * t.x() / t.z() + K.cx, K.fy * t.y() / t.z() + K.cy);
+    EXPECT_LT((centre - f.view.pixel).norm(), 1e-9);
+    EXPECT_LE((f.view.pixel - Eigen::Vector2d(K.cx, K.cy)).norm(), 100 + 1e-9);
+    // The whole printed tag is in the image.
+    FramePose whole = f.frame;
+    whole.tag_size *= 10.0 / 8;
+    for (const auto& c : ground_truth(whole).corners) {
+      EXPECT_GE(c.x(), 0);
+      EXPECT_LE(c.x(), 399);
+      EXPECT_GE(c.y(), 0);
+      EXPECT_LE(c.y(), 399);
+    }
+    auto [it, fresh] = first_of_trial.emplace(f.trial, &f);
+    if (!fresh) {  // the same draws at every step
+      EXPECT_EQ(f.seed, it->second->seed);
+      EXPECT_EQ(f.frame.id, it->second->frame.id);
+      EXPECT_EQ(f.view.roll_deg, it->second->view.roll_deg);
+      EXPECT_EQ(f.view.tilt_axis_deg, it->second->view.tilt_axis_deg);
+      EXPECT_EQ(f.view.pixel, it->second->view.pixel);
+    }
+    ids.insert(f.frame.id);
+  }
+  EXPECT_EQ(ids.size(), 4u) << "each trial its own random id";
+  std::set<std::uint64_t> seeds;
+  for (const auto& [trial, f] : first_of_trial) seeds.insert(f->seed);
+  EXPECT_EQ(seeds.size(), 4u);
+  // Face-on at 1 m the default black square is 400 * 0.166 = 66.4 px wide; off the centre the tag is
+  // nearer in depth (1 m along the ray), so up to 1 / cos(atan(100 / 400)) = 3 % more, and a little
+  // more from the perspective of a tag turned toward the camera.
+  for (const auto& f : frames) {
+    if (f.step != 0) continue;
+    EXPECT_GE(f.truth.black_square_px, 66.4 - 1e-9);
+    EXPECT_LE(f.truth.black_square_px, 66.4 * 1.06);
+  }
+}
+
+TEST(SweepPlan, DistanceFramesAreFaceOnAndTheBlackSquareShrinksAsOneOverDistance) {
+  const auto frames = plan_sweep(settings(Experiment::kDistance, 3));
+  const auto steps = default_steps(Experiment::kDistance);
+  ASSERT_EQ(frames.size(), steps.size() * 3);
+  EXPECT_EQ(steps.front(), 2);
+  EXPECT_EQ(steps.back(), 60);
+  std::map<int, double> product;  // black square px x distance, per trial
+  for (const auto& f : frames) {
+    EXPECT_NEAR(view_angle_deg(f.frame.pose), 0, 1e-6);
+    EXPECT_NEAR(f.frame.pose.t.norm(), f.step, 1e-9);
+    EXPECT_EQ(f.frame.tag_size, 1.0);
+    // 400 px x 1 m / d, off the centre by at most 20 px: within 0.5 %.
+    EXPECT_NEAR(f.truth.black_square_px * f.step / 400, 1, 0.005) << f.step;
+    auto [it, fresh] = product.emplace(f.trial, f.truth.black_square_px * f.step);
+    if (!fresh) {  // the same trial at another distance: the same width x distance, to perspective's 1e-4
+      EXPECT_NEAR(f.truth.black_square_px * f.step, it->second, 5e-4 * it->second) << f.step;
+    }
+  }
+  // Enough steps to see a detector fall off: 1 m apart to 10 m, 2.5 m apart to 60 m.
+  for (std::size_t i = 1; i < steps.size(); ++i) EXPECT_LE(steps[i] - steps[i - 1], 2.5);
+}
+
+TEST(SweepPlan, IdenticalSeedsGiveIdenticalFramesAndAFrameDoesNotDependOnTheOtherSteps) {
+  auto a = plan_sweep(settings(Experiment::kAngle, 3));
+  auto b = plan_sweep(settings(Experiment::kAngle, 3));
+  const auto& plain = scene_template(SceneKind::kPlain);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    EXPECT_EQ(frame_cache_key(a[i].frame, plain), frame_cache_key(b[i].frame, plain));
+  // A subset of steps and trials: the same frames as in the full plan.
+  const auto sub = plan_sweep(settings(Experiment::kAngle, 2, {30}));
+  ASSERT_EQ(sub.size(), 2u);
+  for (const auto& f : sub) {
+    const auto it = std::find_if(a.begin(), a.end(), [&](const SweepFrame& g) { return g.step == 30 && g.trial == f.trial; });
+    ASSERT_NE(it, a.end());
+    EXPECT_EQ(frame_cache_key(f.frame, plain), frame_cache_key(it->frame, plain));
+  }
+  SweepSettings other = settings(Experiment::kAngle, 3);
+  other.seed = 2;
+  const auto c = plan_sweep(other);
+  int same = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) same += frame_cache_key(a[i].frame, plain) == frame_cache_key(c[i].frame, plain);
+  EXPECT_EQ(same, 0) << "another seed, other frames";
+}
+
+TEST(SweepPlan, BadSettingsAreRefusedWithOneLine) {
+  const auto expect = [](const SweepSettings& s, const std::string& fragment) {
+    const std::string msg = refusal(s);
+    EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  };
+  expect(settings(Experiment::kAngle, 0), "trials must be > 0");
+  expect(settings(Experiment::kAngle, -3), "trials must be > 0");
+  expect(settings(Experiment::kAngle, 1, {90}), "angle 90 is outside [0, 90) degrees");
+  expect(settings(Experiment::kAngle, 1, {-1}), "angle -1 is outside [0, 90) degrees");
+  expect(settings(Experiment::kAngle, 1, {10, 10}), "given twice");
+  expect(settings(Experiment::kDistance, 1, {0}), "distance must be > 0");
+  expect(settings(Experiment::kDistance, 1, {-5}), "distance must be > 0");
+  SweepSettings s = settings(Experiment::kAngle, 1);
+  s.distance = 0;
+  expect(s, "distance must be > 0");
+  s = settings(Experiment::kAngle, 1);
+  s.tag_size = 0;
+  expect(s, "tag size must be > 0");
+  s = settings(Experiment::kAngle, 1);
+  s.detectors = {"tagbench-full", "zbar"};
+  expect(s, "unknown detector 'zbar'");
+  s.detectors = {"aruco", "aruco"};
+  expect(s, "given twice");
+  expect(settings(Experiment::kConditions, 1, {1}), "takes no steps");
+  s = settings(Experiment::kDistance, 1);
+  s.distance = 3;
+  expect(s, "its distances are its steps");
+  // A tag that cannot be wholly in view: a 1 m tag at 1 m (its black square would fill the image).
+  expect(settings(Experiment::kDistance, 1, {1}), "does not fit");
+  s = settings(Experiment::kAngle, 1);
+  s.tag_size = 1;
+  expect(s, "does not fit");
+  EXPECT_THROW(parse_scene("studio"), std::invalid_argument);
+  EXPECT_THROW(parse_condition("fog"), std::invalid_argument);
+  EXPECT_THROW(parse_experiment("height"), std::invalid_argument);
+  EXPECT_EQ(parse_scene("realistic"), SceneKind::kRealistic);
+}
+
+TEST(SweepPlan, ConditionsAtZeroStrengthAreThePlainFrames) {
+  SweepSettings s = settings(Experiment::kConditions, 2);
+  const auto frames = plan_sweep(s);
+  ASSERT_EQ(frames.size(), 6u * 5 * 2);
+  const auto& plain = scene_template(SceneKind::kPlain);
+  std::map<int, std::string> base_key;  // per trial
+  for (const auto& f : frames) {
+    if (f.step != 0) continue;
+    EXPECT_TRUE(f.frame.extra_sdl.empty());
+    EXPECT_EQ(f.effect.condition, Condition::kNone);
+    const std::string key = frame_cache_key(f.frame, plain);
+    auto [it, fresh] = base_key.emplace(f.trial, key);
+    EXPECT_EQ(key, it->second) << condition_name(f.condition) << ": the zero strength is one frame for all";
+    EXPECT_LE(view_angle_deg(f.frame.pose), 30);
+  }
+  ASSERT_EQ(base_key.size(), 2u);
+  for (const auto& f : frames) {
+    if (f.step == 0) continue;
+    const std::string key = frame_cache_key(f.frame, plain);
+    const bool rendered = f.condition == Condition::kOcclusion || f.condition == Condition::kBent;
+    EXPECT_EQ(key == base_key[f.trial], !rendered) << condition_name(f.condition) << " " << f.step
+                                                   << ": image-space conditions reuse the plain render";
+    EXPECT_EQ(f.frame.extra_sdl.empty(), !rendered);
+    EXPECT_EQ(f.effect.condition, f.condition);
+  }
+}
+
+// ---- image effects and statistics ---------------------------------------------------------------------
+
+TEST(SweepEffects, NoiseBlurGradientAndDistortionDoWhatTheySay) {
+  SweepFrame f = plan_sweep(settings(Experiment::kConditions, 1))[0];
+  const cv::Mat grey(400, 400, CV_8UC1, cv::Scalar(128));
+  f.effect = {Condition::kNoise, 16, 99, 0};
+  const cv::Mat noisy = apply_effect(grey, f);
+  cv::Scalar mean, sd;
+  cv::meanStdDev(noisy, mean, sd);
+  EXPECT_NEAR(mean[0], 128, 0.3);
+  EXPECT_NEAR(sd[0], 16, 0.5);
+  EXPECT_EQ(cv::norm(noisy, apply_effect(grey, f), cv::NORM_INF), 0) << "seeded";
+  f.effect.seed = 100;
+  EXPECT_GT(cv::norm(noisy, apply_effect(grey, f), cv::NORM_INF), 0);
+
+  cv::Mat step(400, 400, CV_8UC1, cv::Scalar(0));
+  step.colRange(200, 400).setTo(255);
+  f.effect = {Condition::kBlur, 2, 0, 0};
+  const cv::Mat blurred = apply_effect(step, f);
+  EXPECT_EQ(blurred.at<std::uint8_t>(200, 100), 0);
+  EXPECT_NEAR(blurred.at<std::uint8_t>(200, 199), 255 * 0.40, 4);  // Phi(-0.25) for sigma 2, half a pixel off
+  EXPECT_NEAR(blurred.at<std::uint8_t>(200, 200), 255 * 0.60, 4);
+
+  const cv::Mat white(400, 400, CV_8UC1, cv::Scalar(200));
+  f.effect = {Condition::kGradient, 0.75, 0, 0};  // light falls off toward +x across the black square
+  const cv::Mat lit = apply_effect(white, f);
+  double lo_x = 1e9, hi_x = -1e9;
+  for (const auto& c : f.truth.corners) {
+    lo_x = std::min(lo_x, c.x());
+    hi_x = std::max(hi_x, c.x());
+  }
+  EXPECT_EQ(lit.at<std::uint8_t>(10, static_cast<int>(std::floor(lo_x)) - 1), 200);
+  EXPECT_EQ(lit.at<std::uint8_t>(10, static_cast<int>(std::ceil(hi_x)) + 1), 50);
+  EXPECT_NEAR(lit.at<std::uint8_t>(10, static_cast<int>(std::lround((lo_x + hi_x) / 2))), 200 * (1 - 0.375), 2);
+
+  // Distortion: a dot at an undistorted pixel appears where the forward model puts it.
+  cv::Mat dot(400, 400, CV_8UC1, cv::Scalar(0));
+  cv::circle(dot, cv::Point(330, 90), 3, cv::Scalar(255), cv::FILLED);
+  f.effect = {Condition::kDistortion, 0.3, 0, 0};
+  const cv::Mat warped = apply_effect(dot, f);
+  const cv::Moments m = cv::moments(warped);
+  const double x = (330 - 199.5) / 400, y = (90 - 199.5) / 400, k = 1 - 0.3 * (x * x + y * y);
+  EXPECT_NEAR(m.m10 / m.m00, 199.5 + 400 * x * k, 0.1);
+  EXPECT_NEAR(m.m01 / m.m00, 199.5 + 400 * y * k, 0.1);
+  EXPECT_LT(m.m10 / m.m00, 329) << "barrel: toward the centre";
+  f.effect = {Condition::kDistortion, 0, 0, 0};
+  EXPECT_EQ(cv::norm(apply_effect(dot, f), dot, cv::NORM_INF), 0) << "zero strength: the frame itself";
+}
+
+TEST(SweepStats, WilsonIntervalAndQuantiles) {
+  auto [lo, hi] = wilson_interval(0, 10);
+  EXPECT_NEAR(lo, 0, 1e-12);
+  EXPECT_NEAR(hi, 0.2775, 1e-4);
+  std::tie(lo, hi) = wilson_interval(10, 10);
+  EXPECT_NEAR(lo, 0.7225, 1e-4);
+  EXPECT_NEAR(hi, 1, 1e-12);
+  std::tie(lo, hi) = wilson_interval(25, 50);
+  EXPECT_NEAR(lo, 0.3664, 1e-4);
+  EXPECT_NEAR(hi, 0.6336, 1e-4);
+  EXPECT_EQ(quantile({4, 1, 3, 2}, 0.5), 2.5);
+  EXPECT_NEAR(quantile({4, 1, 3, 2}, 0.1), 1.3, 1e-12);
+  EXPECT_NEAR(quantile({4, 1, 3, 2, NAN}, 0.9), 3.7, 1e-12);
+  EXPECT_TRUE(std::isnan(quantile({}, 0.5)));
+}
+
+// ---- small sweeps on rendered frames ---------------------------------------------------------------
+
+// Rows and summaries agree; the CSV has its header and one line per frame and detector.
+void check_rows_and_summary(const SweepResult& r) {
+  const std::size_t ok_frames = r.frames.size() - r.failed.size();
+  ASSERT_EQ(r.rows.size(), ok_frames * r.settings.detectors.size());
+  const auto csv = lines(rows_csv(r));
+  ASSERT_EQ(csv.size(), r.rows.size() + 1);
+  EXPECT_EQ(csv[0],
+            "experiment,condition,step,step_unit,trial,seed,id,scene,family,tag_size_m,distance_m,phi_deg,"
+            "tilt_axis_deg,roll_deg,image_x,image_y,black_square_px,detector,detected_right_id,wrong_id,"
+            "orientation_error_deg,distance_error_m,distance_error_percent,corner_rms_px,ms");
+  for (std::size_t i = 1; i < csv.size(); ++i) EXPECT_EQ(fields(csv[i]).size(), 25u) << csv[i];
+  const auto summary = summarize(r);
+  const auto sum_csv = lines(summary_csv(r, summary));
+  ASSERT_EQ(sum_csv.size(), summary.size() + 1);
+  std::size_t frames_counted = 0;
+  for (const auto& s : summary) {
+    int frames = 0, detected = 0, wrong = 0;
+    std::vector<double> orient;
+    for (const auto& row : r.rows) {
+      const auto& f = r.frames[row.frame];
+      if (row.detector != s.detector || f.step != s.step || f.condition != s.condition) continue;
+      ++frames;
+      detected += row.detected_right_id;
+      wrong += row.wrong_id;
+      if (row.detected_right_id) orient.push_back(row.orientation_error_deg);
+    }
+    EXPECT_EQ(s.frames, frames);
+    EXPECT_EQ(s.detected, detected);
+    EXPECT_EQ(s.wrong_id_frames, wrong);
+    EXPECT_DOUBLE_EQ(s.detection_rate, static_cast<double>(detected) / frames);
+    EXPECT_LE(s.rate_lo95, s.detection_rate);
+    EXPECT_GE(s.rate_hi95, s.detection_rate);
+    if (!orient.empty()) {
+      std::sort(orient.begin(), orient.end());
+      EXPECT_GE(s.orientation_deg.median, orient.front());
+      EXPECT_LE(s.orientation_deg.median, orient.back());
+      EXPECT_LE(s.orientation_deg.p10, s.orientation_deg.median);
+      EXPECT_GE(s.orientation_deg.p90, s.orientation_deg.median);
+      EXPECT_DOUBLE_EQ(s.orientation_deg.median, quantile(orient, 0.5));
+    } else {
+      EXPECT_TRUE(std::isnan(s.orientation_deg.median));
+    }
+    frames_counted += static_cast<std::size_t>(frames);
+  }
+  EXPECT_EQ(frames_counted, r.rows.size());
+}
+
+TEST(SweepRun, SmallAngleSweepOursFindsEveryFrameTo60DegreesAndARerunRendersNothing) {
+  REQUIRE_POVRAY();
+  const SweepSettings s = settings(Experiment::kAngle, 2, {0, 30, 60});
+  const SweepResult r = run_sweep(s, options());
+  ASSERT_TRUE(r.failed.empty());
+  ASSERT_EQ(r.frames.size(), 6u);
+  EXPECT_EQ(r.settings.detectors, comparator_names());
+  check_rows_and_summary(r);
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    const auto& f = r.frames[i];
+    const SweepRow& ours = row_for(r, i, "tagbench-full");
+    EXPECT_TRUE(ours.detected_right_id) << "phi " << f.step << " trial " << f.trial;
+    EXPECT_FALSE(ours.wrong_id);
+    if (f.step == 0) {
+      std::printf("face-on, trial %d: orientation %.3f deg, distance %.3f %%, corners %.3f px\n", f.trial,
+                  ours.orientation_error_deg, ours.distance_error_percent, ours.corner_rms_px);
+      EXPECT_LT(ours.orientation_error_deg, 1.0);
+      EXPECT_LT(ours.distance_error_percent, 1.0);
+      EXPECT_LT(ours.corner_rms_px, 0.3);
+    }
+    for (const auto& row : r.rows) EXPECT_GT(row.ms, 0);
+  }
+  for (const auto& sum : summarize(r))
+    if (sum.detector == "tagbench-full") {
+      EXPECT_EQ(sum.detection_rate, 1.0) << "phi " << sum.step;
+    }
+
+  // A rerun renders nothing and gives the same rows (all but the times).
+  RenderOptions no_povray = options();
+  no_povray.povray = "/nonexistent/povray";
+  const SweepResult again = run_sweep(s, no_povray);
+  EXPECT_EQ(again.rendered, 0u);
+  EXPECT_EQ(again.from_cache, again.distinct_frames);
+  EXPECT_EQ(again.povray_runs, 0);
+  EXPECT_EQ(without_timing(rows_csv(again)), without_timing(rows_csv(r)));
+  EXPECT_EQ(without_timing(summary_csv(again, summarize(again))), without_timing(summary_csv(r, summarize(r))));
+  const std::string json = sidecar_json(r);
+  EXPECT_NE(json.find("\"experiment\": \"angle\""), std::string::npos);
+  EXPECT_NE(json.find("\"tag_size_m\": 0.166"), std::string::npos);
+  EXPECT_NE(json.find("\"failed\": []"), std::string::npos);
+}
+
+TEST(SweepRun, SmallDistanceSweepRecordsTheBlackSquareWidth) {
+  REQUIRE_POVRAY();
+  SweepSettings s = settings(Experiment::kDistance, 2, {2, 4, 8});
+  s.detectors = {"tagbench-full", "libapriltag-d1"};
+  const SweepResult r = run_sweep(s, options());
+  ASSERT_TRUE(r.failed.empty());
+  check_rows_and_summary(r);
+  const auto csv = lines(rows_csv(r));
+  for (std::size_t i = 1; i < csv.size(); ++i) {
+    const auto f = fields(csv[i]);
+    const double step = std::stod(f[2]), px = std::stod(f[16]), dist = std::stod(f[10]);
+    EXPECT_EQ(f[1], "none");
+    EXPECT_EQ(f[3], "m");
+    EXPECT_NEAR(dist, step, 1e-6);
+    EXPECT_NEAR(px * step / 400, 1, 0.005) << csv[i];  // 1/distance, to the CSV's rounding and the position
+    EXPECT_NEAR(std::stod(f[11]), 0, 1e-5) << "face-on";
+  }
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    EXPECT_TRUE(row_for(r, i, "tagbench-full").detected_right_id) << r.frames[i].step;
+    EXPECT_TRUE(row_for(r, i, "libapriltag-d1").detected_right_id) << r.frames[i].step;
+  }
+}
+
+TEST(SweepRun, SmallConditionsSweepZeroStrengthEqualsThePlainFramesAndTheTruthFollowsTheCondition) {
+  REQUIRE_POVRAY();
+  const SweepSettings s = settings(Experiment::kConditions, 1);
+  const SweepResult r = run_sweep(s, options());
+  ASSERT_TRUE(r.failed.empty());
+  ASSERT_EQ(r.frames.size(), 6u * 5);
+  check_rows_and_summary(r);
+  EXPECT_EQ(r.distinct_frames, 1u + 4 + 4) << "the base frame, occlusion and bent are rendered; the rest reuse it";
+
+  // The base frame rendered on its own, as the angle and distance sweeps render theirs.
+  const SweepFrame& base = r.frames[0];
+  ASSERT_EQ(base.step, 0);
+  const RenderReport plain = render_frames({base.frame}, scene_template(SceneKind::kPlain), options());
+  ASSERT_TRUE(plain.frames[0].ok());
+  const cv::Mat plain_px = read_frame_gray(plain.frames[0].png);
+  const RenderReport all = [&] {
+    std::vector<FramePose> poses;
+    for (const auto& f : r.frames) poses.push_back(f.frame);
+    return render_frames(poses, scene_template(SceneKind::kPlain), options());
+  }();
+  EXPECT_EQ(all.rendered, 0u) << "all cached by the sweep";
+  std::map<std::string, std::vector<const SweepRow*>> zero_rows;  // per condition
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    const auto& f = r.frames[i];
+    if (f.step != 0) continue;
+    EXPECT_EQ(cv::norm(apply_effect(read_frame_gray(all.frames[i].png), f), plain_px, cv::NORM_INF), 0)
+        << condition_name(f.condition) << " at zero strength is the plain frame";
+    for (const auto& row : r.rows)
+      if (row.frame == i) zero_rows[condition_name(f.condition)].push_back(&row);
+  }
+  ASSERT_EQ(zero_rows.size(), 6u);
+  for (const auto& [cond, rows] : zero_rows) {
+    ASSERT_EQ(rows.size(), 5u);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const SweepRow& a = *rows[k];
+      const SweepRow& b = *zero_rows.begin()->second[k];
+      EXPECT_EQ(a.detector, b.detector);
+      EXPECT_EQ(a.detected_right_id, b.detected_right_id) << cond;
+      EXPECT_EQ(a.corner_rms_px, b.corner_rms_px) << cond;
+    }
+    EXPECT_TRUE(rows[0]->detected_right_id) << "ours finds the base frame";
+  }
+
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    const auto& f = r.frames[i];
+    const SweepRow& ours = row_for(r, i, "tagbench-full");
+    // Distortion: ours (given the coefficients) finds the corners where the distorted truth puts them,
+    // so the remap and the truth agree; aruco's pose with the coefficients is in our frame.
+    if (f.condition == Condition::kDistortion && f.step > 0) {
+      ASSERT_TRUE(ours.detected_right_id) << f.step;
+      EXPECT_LT(ours.corner_rms_px, 0.5) << f.step;
+      EXPECT_LT(ours.orientation_error_deg, 1.5) << f.step;
+      EXPECT_LT(ours.distance_error_percent, 1.0) << f.step;
+      const SweepRow& aruco = row_for(r, i, "aruco");
+      if (aruco.detected_right_id) {
+        EXPECT_LT(aruco.orientation_error_deg, 3.0) << f.step;
+      }
+    }
+  }
+
+  // Bent and occlusion are rendered: the bent corners describe the picture better than the flat tag's,
+  // and the occluder sits on the printed bottom edge.
+  const auto ours = make_comparator("tagbench-full", {.family = "36h11", .camera = render_camera(), .tag_size = 0.166});
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    const auto& f = r.frames[i];
+    const cv::Mat img = read_frame_gray(all.frames[i].png);
+    if (f.condition == Condition::kBent && f.step >= 30) {  // at 20 degrees the kink's line-fit error dominates
+      const auto out = ours->run(img);
+      ASSERT_EQ(out.found.size(), 1u) << "bend " << f.step;
+      const double to_bent = found_errors(out.found[0], f.truth).corner_rms_px;
+      const double to_flat = found_errors(out.found[0], ground_truth(f.frame)).corner_rms_px;
+      std::printf("bend %g deg: corners %.3f px from the bent truth, %.3f px from the flat tag's\n", f.step, to_bent,
+                  to_flat);
+      EXPECT_LT(to_bent, to_flat) << "bend " << f.step;
+      EXPECT_LT(to_bent, 1.0) << "bend " << f.step;
+    }
+    if (f.condition == Condition::kOcclusion && f.step > 0) {
+      cv::Mat diff;
+      cv::absdiff(img, plain_px, diff);
+      const cv::Moments m = cv::moments(diff > 20, true);
+      ASSERT_GT(m.m00, 20) << "the occluder is in view";
+      const Eigen::Vector2d centroid(m.m10 / m.m00, m.m01 / m.m00);
+      const Corners& c = f.truth.corners;  // TL, TR, BR, BL: the bottom edge is BR-BL
+      double best = 1e9;
+      std::size_t nearest = 0;
+      for (std::size_t k = 0; k < 4; ++k) {
+        const double d = (centroid - (c[k] + c[(k + 1) % 4]) / 2).norm();
+        if (d < best) {
+          best = d;
+          nearest = k;
+        }
+      }
+      EXPECT_EQ(nearest, 2u) << "occlusion " << f.step << ": the changed pixels are on the printed bottom edge";
+      EXPECT_LT(best, 0.2 * f.truth.black_square_px);
+    }
+  }
+}
