@@ -57,6 +57,7 @@ class Ours final : public Comparator {
     if (wants_pose(s)) {
       o.camera = *s.camera;
       o.tag_size = s.tag_size;
+      o.distortion = s.distortion;
     }
     return o;
   }
@@ -175,6 +176,10 @@ class Aruco final : public Comparator {
     params_->cornerRefinementMethod = cv::aruco::CORNER_REFINE_APRILTAG;
     if (wants_pose(s)) {
       camera_ = (cv::Mat_<double>(3, 3) << s.camera->fx, 0, s.camera->cx, 0, s.camera->fy, s.camera->cy, 0, 0, 1);
+      if (s.distortion) {
+        const auto& k = *s.distortion;
+        dist_ = (cv::Mat_<double>(1, 5) << k[0], k[1], k[2], k[3], k[4]);
+      }
       // Its marker's corners in its frame (x right, y up, z out of the face), as estimatePoseSingleMarkers has them.
       const float h = static_cast<float>(s.tag_size / 2);
       object_ = {{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0}};
@@ -201,7 +206,8 @@ class Aruco final : public Comparator {
       }
       if (wants_pose(setup_)) {
         cv::Mat rvec, tvec;
-        if (cv::solvePnP(object_, centred, camera_, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_IPPE_SQUARE)) {
+        const cv::_InputArray dist = dist_.empty() ? cv::_InputArray(cv::noArray()) : cv::_InputArray(dist_);
+        if (cv::solvePnP(object_, centred, camera_, dist, rvec, tvec, false, cv::SOLVEPNP_IPPE_SQUARE)) {
           cv::Mat Rcv;
           cv::Rodrigues(rvec, Rcv);
           Eigen::Matrix3d Ra;
@@ -223,7 +229,7 @@ class Aruco final : public Comparator {
   std::string family_name_;
   cv::Ptr<cv::aruco::Dictionary> dict_;
   cv::Ptr<cv::aruco::DetectorParameters> params_;
-  cv::Mat camera_;
+  cv::Mat camera_, dist_;  // dist_ empty: no distortion
   std::vector<cv::Point3f> object_;
 };
 

@@ -25,6 +25,7 @@
 //     is our printed bottom-right: ours are c[2], c[3], c[0], c[1]. Its marker frame has x toward its
 //     marker's right, y toward its top, z out of the face; with the 180-degree turn, X_aruco =
 //     diag(-1, 1, -1) X_ours, so R_ours = R_aruco diag(-1, 1, -1) and t is the same point (the centre).
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -57,6 +58,9 @@ struct ComparatorSetup {
   std::string family = "36h11";            // one family; libapriltag and aruco know 16h5, 25h9, 36h10, 36h11
   std::optional<CameraIntrinsics> camera;  // with tag_size > 0: poses (pixel centres at integers)
   double tag_size = 0;                     // black square, metres
+  // OpenCV's k1, k2, p1, p2, k3 of the camera, for the pose: ours undistorts its corners and aruco's
+  // solvePnP takes them; libapriltag's estimate_tag_pose has no distortion model and ignores them.
+  std::optional<std::array<double, 5>> distortion;
 };
 
 class Comparator {

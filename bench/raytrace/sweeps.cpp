@@ -157,83 +157,6 @@ const std::pair<cv::Mat, cv::Mat>& distortion_maps(double k1) {
   return maps.emplace(k1, std::make_pair(mx, my)).first->second;
 }
 
-// ---- our detector and aruco's pose with the distortion coefficients -----------------------------------
-
-class OursWithDistortion final : public Comparator {
- public:
-  OursWithDistortion(const std::string& name, const ComparatorSetup& s, double k1)
-      : Comparator(name), detector_(options(name, s, k1)) {}
-
- private:
-  static DetectorOptions options(const std::string& name, const ComparatorSetup& s, double k1) {
-    DetectorOptions o;
-    o.families = {s.family};
-    o.half_resolution = name == "tagbench-half";
-    o.camera = *s.camera;
-    o.tag_size = s.tag_size;
-    o.distortion = std::array<double, 5>{k1, 0, 0, 0, 0};
-    return o;
-  }
-  std::vector<Found> detect(const cv::Mat& gray8) override {
-    std::vector<Found> out;
-    for (const Detection& d : detector_.detect(gray8)) {
-      Found f;
-      f.family = d.family;
-      f.id = d.id;
-      f.hamming = d.hamming;
-      f.corners = d.corners;
-      if (d.pose) f.pose = d.pose->pose;
-      out.push_back(std::move(f));
-    }
-    return out;
-  }
-  Detector detector_;
-};
-
-// aruco's corners (the comparator, in our conventions) and its pose as estimatePoseSingleMarkers makes
-// it when given distCoeffs: cv::solvePnP with SOLVEPNP_IPPE_SQUARE. Its square's object points in the
-// order IPPE_SQUARE wants ((-h, h), (h, h), (h, -h), (-h, -h)) are our TL, TR, BR, BL in a frame with y
-// and z turned over: X' = diag(1, -1, -1) X_ours, so R_ours = R' diag(1, -1, -1).
-class ArucoWithDistortion final : public Comparator {
- public:
-  ArucoWithDistortion(const ComparatorSetup& s, double k1) : Comparator("aruco") {
-    ComparatorSetup corners_only = s;
-    corners_only.camera.reset();
-    corners_only.tag_size = 0;
-    inner_ = make_comparator("aruco", corners_only);
-    camera_ = (cv::Mat_<double>(3, 3) << s.camera->fx, 0, s.camera->cx, 0, s.camera->fy, s.camera->cy, 0, 0, 1);
-    dist_ = (cv::Mat_<double>(1, 5) << k1, 0, 0, 0, 0);
-    const double h = s.tag_size / 2;
-    object_ = {{-h, h, 0}, {h, h, 0}, {h, -h, 0}, {-h, -h, 0}};
-  }
-
- private:
-  std::vector<Found> detect(const cv::Mat& gray8) override {
-    std::vector<Found> out = inner_->run(gray8).found;
-    const Eigen::Matrix3d flip = Eigen::Vector3d(1, -1, -1).asDiagonal();
-    for (Found& f : out) {
-      std::vector<cv::Point2d> image;
-      for (const auto& c : f.corners) image.emplace_back(c.x(), c.y());
-      cv::Mat rvec, tvec;
-      if (!cv::solvePnP(object_, image, camera_, dist_, rvec, tvec, false, cv::SOLVEPNP_IPPE_SQUARE)) continue;
-      cv::Mat Rcv;
-      cv::Rodrigues(rvec, Rcv);
-      Eigen::Matrix3d R;
-      Eigen::Vector3d t;
-      cv::cv2eigen(Rcv, R);
-      cv::cv2eigen(tvec, t);
-      Pose p;
-      p.R = R * flip;
-      p.t = t;
-      if (p.R.allFinite() && p.t.allFinite()) f.pose = p;
-    }
-    return out;
-  }
-  std::unique_ptr<Comparator> inner_;
-  cv::Mat camera_, dist_;
-  std::vector<cv::Point3d> object_;
-};
-
 using DetectorSet = std::vector<std::unique_ptr<Comparator>>;
 
 DetectorSet make_detectors(const SweepSettings& s, std::optional<double> k1) {
@@ -241,15 +164,9 @@ DetectorSet make_detectors(const SweepSettings& s, std::optional<double> k1) {
   setup.family = s.family;
   setup.camera = render_camera();
   setup.tag_size = *s.tag_size;
+  if (k1) setup.distortion = std::array<double, 5>{*k1, 0, 0, 0, 0};
   DetectorSet set;
-  for (const auto& name : s.detectors) {
-    if (k1 && (name == "tagbench-full" || name == "tagbench-half"))
-      set.push_back(std::make_unique<OursWithDistortion>(name, setup, *k1));
-    else if (k1 && name == "aruco")
-      set.push_back(std::make_unique<ArucoWithDistortion>(setup, *k1));
-    else
-      set.push_back(make_comparator(name, setup));
-  }
+  for (const auto& name : s.detectors) set.push_back(make_comparator(name, setup));
   return set;
 }
 

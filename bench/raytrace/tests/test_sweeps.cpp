@@ -500,7 +500,7 @@ TEST(SweepRun, SmallConditionsSweepZeroStrengthEqualsThePlainFramesAndTheTruthFo
 
   // Bent and occlusion are rendered: the bent corners describe the picture better than the flat tag's,
   // and the occluder sits on the printed bottom edge.
-  const auto ours = make_comparator("tagbench-full", {.family = "36h11", .camera = render_camera(), .tag_size = 0.166});
+  const auto ours = make_comparator("tagbench-full", {.family = "36h11", .camera = render_camera(), .tag_size = 0.166, .distortion = std::nullopt});
   for (std::size_t i = 0; i < r.frames.size(); ++i) {
     const auto& f = r.frames[i];
     const cv::Mat img = read_frame_gray(all.frames[i].png);
