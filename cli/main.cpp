@@ -22,6 +22,7 @@ Commands:
   scene     a synthetic image with tags at known corners (PNG + JSON ground truth)
   raytrace  the localization experiments on POV-Ray frames: angle (Fig. 9), distance (Fig. 10),
             conditions (noise, blur, lighting, occlusion, bending, lens distortion), five detectors
+  corpus    the natural-image corpus: build it from Debian packages, list a folder of images
 
 Run 'tagbench <command> --help' for a command's options.
 Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).
@@ -40,6 +41,7 @@ constexpr Command kCommands[] = {
     {"generator-speed", tagbench::cli::cmd_generator_speed},
     {"scene", tagbench::cli::cmd_scene},
     {"raytrace", tagbench::cli::cmd_raytrace},
+    {"corpus", tagbench::cli::cmd_corpus},
 };
 
 }  // namespace

@@ -10,6 +10,7 @@ PACKAGES=(
   povray
   libbenchmark-dev libgtest-dev
   libapriltag-dev
+  zlib1g-dev libzstd-dev libssl-dev
   python3 python3-matplotlib
 )
 

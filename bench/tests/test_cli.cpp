@@ -67,7 +67,7 @@ void write(const fs::path& p, const std::string& text) { std::ofstream(p) << tex
 
 TEST(Cli, HelpForEveryCommand) {
   for (const char* c : {"--help", "family --help", "family generate --help", "render --help", "codes --help",
-                        "generator-speed --help"}) {
+                        "generator-speed --help", "corpus --help"}) {
     const Result r = run(c);
     EXPECT_EQ(r.code, 0) << c;
     EXPECT_NE(r.out.find("usage: tagbench"), std::string::npos) << c;
