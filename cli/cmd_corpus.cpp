@@ -1,12 +1,16 @@
 // tagbench corpus: the natural-image corpus for the false-positive experiments (issue 5).
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include "build.hpp"
+#include "candidates.hpp"
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
 #include "scan.hpp"
+#include "codes/families.hpp"
+#include "util/progress.hpp"
 #include "util/sysinfo.hpp"
 
 namespace tagbench::cli {
@@ -14,6 +18,8 @@ namespace tagbench::cli {
 namespace {
 constexpr const char* kHelp = R"(usage: tagbench corpus build [options]
        tagbench corpus list --from DIR
+       tagbench corpus candidates --corpus DIR [--out FILE] [--jobs N]
+       tagbench corpus score --candidates FILE --family F... [--max-bits K]
 
 build: the default natural-image corpus from the Debian packages named in the lists
 (corpus_tools/data/photo_sources.tsv, video_sources.tsv): apt-get download PKG=VERSION into the
@@ -35,6 +41,22 @@ manifest's is an error naming it and its package.
 
 list: every image under DIR, recursively, as TSV on stdout (status, file, width, height, reason);
 unreadable files are listed with the reason and counted, not fatal. A summary goes to stderr.
+
+candidates: the detector's stages up to the quad search (default detector settings) on every image
+of DIR (DIR/manifest.tsv, or every image under DIR when there is no manifest), and for every
+candidate quad the 4x4, 5x5 and 6x6 payload read with the detector's varying threshold. No
+pre-filter: every quad whose payload can be read is kept (the paper's false-positive count).
+  --out FILE        the store (default DIR/corpus_candidates.bin); the image index goes beside it
+                    with extension .tsv (id, file, group, kind, width, height, quads, status, reason)
+  --jobs N          images processed at once (default: all cores); the store does not depend on it
+
+score: for each family, the stored quads of its payload size whose bits decode (any rotation)
+within k bits, for k = 0..K; a table (family, bits_corrected, quads, accepted, rate) on stdout.
+For k > (h-1)/2 a quad is accepted when its nearest code is within k (TagFamily::decode).
+  --candidates FILE the store written by `corpus candidates`
+  --family F        built-in name or family file; repeatable or comma-separated
+  --max-bits K      the largest number of bits corrected (default 4)
+  --jobs N          threads (default: all cores)
 )";
 
 std::vector<std::string> split_commas(const std::string& s) {
@@ -101,6 +123,91 @@ int corpus_list(const Words& w) {
                scan.unreadable.size(), scan.other_files, from->c_str());
   return 0;
 }
+int corpus_candidates(const Words& w) {
+  const Args a(w, {{"corpus"}, {"out"}, {"jobs"}});
+  if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
+  const auto dir = a.get("corpus");
+  if (!dir) throw UsageError("--corpus DIR is required");
+  if (!std::filesystem::is_directory(*dir)) throw UsageError("--corpus " + *dir + ": no such directory");
+  const std::filesystem::path out = a.get_or("out", (std::filesystem::path(*dir) / "corpus_candidates.bin").string());
+  const int jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
+  auto images = corpus::corpus_images(*dir);
+  const auto t0 = std::chrono::steady_clock::now();
+  corpus::CandidateStore store;
+  {
+    ProgressBar bar("candidates");
+    store = corpus::extract_candidates(*dir, std::move(images), DetectorOptions{}, jobs,
+                                       [&](const corpus::ExtractProgress& p) {
+                                         const double s = std::chrono::duration<double>(
+                                                              std::chrono::steady_clock::now() - t0).count();
+                                         const double rate = s > 0 ? static_cast<double>(p.images_done) / s : 0;
+                                         const double left =
+                                             rate > 0 ? static_cast<double>(p.images_total - p.images_done) / rate : -1;
+                                         char detail[96];
+                                         std::snprintf(detail, sizeof detail, "%llu quads, %.3g images/s",
+                                                       static_cast<unsigned long long>(p.quads), rate);
+                                         bar.update(p.images_total ? static_cast<double>(p.images_done) /
+                                                                         static_cast<double>(p.images_total)
+                                                                   : 1.0,
+                                                    std::to_string(p.images_done) + "/" +
+                                                        std::to_string(p.images_total),
+                                                    detail, left);
+                                       });
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+  corpus::write_candidates(out, store);
+  std::size_t unreadable = 0;
+  double mpix = 0;
+  for (const auto& i : store.images) {
+    unreadable += i.status != "ok";
+    mpix += static_cast<double>(i.width) * i.height / 1e6;
+  }
+  std::fprintf(stderr,
+               "tagbench corpus candidates: %zu images (%zu unreadable), %llu quads, %zu payload records in %s "
+               "(%.1f s; %.3g images/s, %.3g Mpx/s, %.3g quads/s)\n",
+               store.images.size(), unreadable, static_cast<unsigned long long>(store.quads), store.records.size(),
+               out.string().c_str(), secs, secs > 0 ? static_cast<double>(store.images.size()) / secs : 0,
+               secs > 0 ? mpix / secs : 0, secs > 0 ? static_cast<double>(store.quads) / secs : 0);
+  for (const auto& i : store.images)
+    if (i.status != "ok") std::fprintf(stderr, "  unreadable: %s: %s\n", i.file.c_str(), i.reason.c_str());
+  return 0;
+}
+
+int corpus_score(const Words& w) {
+  const Args a(w, {{"candidates"}, {"family", true, true}, {"max-bits"}, {"jobs"}});
+  std::vector<std::string> names;
+  for (const auto& f : a.all("family"))
+    for (const auto& n : split_commas(f)) names.push_back(n);
+  for (const auto& p : a.positionals()) names.push_back(p);
+  const auto file = a.get("candidates");
+  if (!file) throw UsageError("--candidates FILE is required");
+  if (names.empty()) throw UsageError("--family F is required");
+  const int jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
+  const int max_k = static_cast<int>(a.get_int("max-bits", 4, 0, 64));
+  std::vector<TagFamily> families;
+  for (const auto& n : names) families.push_back(load_family(n));
+  const auto store = corpus::read_candidates(*file, false);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::printf("family\tbits_corrected\tquads\taccepted\trate\n");
+  bool nearest = false;
+  for (const auto& f : families) {
+    const int k = std::min(max_k, f.bits());
+    const auto s = corpus::score_family(store.records, f, k, jobs);
+    for (int i = 0; i <= k; ++i) {
+      const auto acc = s.accepted[static_cast<std::size_t>(i)];
+      std::printf("%s\t%d\t%llu\t%llu\t%.6g\n", f.name().c_str(), i, static_cast<unsigned long long>(s.quads),
+                  static_cast<unsigned long long>(acc),
+                  s.quads ? static_cast<double>(acc) / static_cast<double>(s.quads) : 0.0);
+    }
+    nearest = nearest || 2 * k >= f.min_hamming();
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::fprintf(stderr, "tagbench corpus score: %zu records, %zu families in %.2f s%s\n", store.records.size(),
+               families.size(), secs,
+               nearest ? "; rows with bits corrected > (h-1)/2 accept a quad whose nearest code is that close" : "");
+  return 0;
+}
 }  // namespace
 
 int cmd_corpus(const Words& w) {
@@ -112,7 +219,9 @@ int cmd_corpus(const Words& w) {
   const Words rest(w.begin() + 1, w.end());
   if (w[0] == "build") return corpus_build(rest);
   if (w[0] == "list") return corpus_list(rest);
-  throw UsageError("unknown subcommand '" + w[0] + "' (build, list)");
+  if (w[0] == "candidates") return corpus_candidates(rest);
+  if (w[0] == "score") return corpus_score(rest);
+  throw UsageError("unknown subcommand '" + w[0] + "' (build, list, candidates, score)");
 }
 
 }  // namespace tagbench::cli

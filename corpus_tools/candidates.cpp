@@ -1,0 +1,445 @@
+#include "candidates.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstring>
+#include <mutex>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "detect/blur.hpp"
+#include "detect/gradient.hpp"
+#include "detect/homography.hpp"
+#include "detect/line_fit.hpp"
+#include "detect/payload_decode.hpp"
+#include "detect/quad_search.hpp"
+#include "detect/segmentation.hpp"
+#include "scan.hpp"
+#include "sources.hpp"
+#include "util/atomic_file.hpp"
+
+namespace fs = std::filesystem;
+
+namespace tagbench::corpus {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the store is written little-endian");
+
+constexpr char kMagic[8] = {'T', 'B', 'C', 'A', 'N', 'D', 'S', '\0'};
+constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8 + 8 + 8 + 8 + 4;  // up to the settings text
+constexpr std::size_t kRecordSize = 4 + 1 + 3 + 8 + 4 + 8 * 4;
+
+template <class T>
+void put(std::string& out, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  out.append(b, sizeof(T));
+}
+template <class T>
+T get(const char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return v;
+}
+
+std::uint64_t fnv1a(const char* p, std::size_t n) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= static_cast<unsigned char>(p[i]);
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+std::string clean(std::string s) {
+  for (char& c : s)
+    if (c == '\t' || c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
+const char* rule_name(CloseEnoughRule r) {
+  switch (r) {
+    case CloseEnoughRule::kPaper2011: return "paper2011";
+    case CloseEnoughRule::kCode2010: return "code2010";
+    case CloseEnoughRule::kCode2012: return "code2012";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::vector<CandidateRecord> image_candidates(const ImageF& gray, std::uint32_t image_id, const DetectorOptions& opt,
+                                              std::size_t* quad_count) {
+  if (gray.empty()) throw std::invalid_argument("empty image");
+  if (static_cast<long long>(gray.width) * gray.height > opt.max_pixels)
+    throw std::invalid_argument("image " + std::to_string(gray.width) + "x" + std::to_string(gray.height) +
+                                " is over the memory limit of " + std::to_string(opt.max_pixels) + " pixels");
+  // The detector's stages 1-5 (detector.cpp), with the same options.
+  const bool halve = opt.half_resolution && gray.width >= 4 && gray.height >= 4;
+  const ImageF seg_in = halve ? blur_and_halve(gray, opt.seg_sigma) : gaussian_blur(gray, opt.seg_sigma);
+  const ImageF dec_in = opt.decode_sigma > 0 ? gaussian_blur(gray, opt.decode_sigma) : ImageF();
+  const ImageF& decode_image = opt.decode_sigma > 0 ? dec_in : gray;
+  const Gradients g = compute_gradients(seg_in, opt.segmentation.min_mag);
+  const Clusters clusters = segment_clusters(g, opt.segmentation);
+  std::vector<Segment> segments = fit_segments(clusters, opt.line_fit);
+  if (halve)
+    for (auto& s : segments) s = segment_full_from_half(s);
+  const std::vector<Quad> quads = find_quads(segments, opt.quad_search);
+  if (quad_count) *quad_count = quads.size();
+
+  // The detector's pre-filters (quick_reject's border contrast test) are NOT applied here: the
+  // paper's false-positive measurement counts every candidate quad whose payload can be read, so
+  // every quad goes to read_payload with quick_reject off. read_payload itself still refuses a quad
+  // whose cells leave the image or whose border gives no usable (contrasting) model.
+  PayloadOptions payload = opt.payload;
+  payload.quick_reject = false;
+  std::vector<CandidateRecord> out;
+  out.reserve(quads.size() * kCandidateWidths.size());
+  for (const Quad& q : quads) {
+    const auto H = tag_homography(q.corners);
+    if (!H) continue;
+    CandidateRecord r;
+    r.image = image_id;
+    for (std::size_t i = 0; i < 4; ++i)
+      r.corners[i] = {static_cast<float>(q.corners[i].x()), static_cast<float>(q.corners[i].y())};
+    for (const int d : kCandidateWidths) {
+      const auto reading = read_payload(decode_image, *H, d, payload, false);
+      if (!reading) continue;
+      r.d = static_cast<std::uint8_t>(d);
+      r.bits = reading->bits;
+      r.margin = static_cast<float>(reading->margin);
+      out.push_back(r);
+    }
+  }
+  return out;
+}
+
+std::string candidate_settings(const DetectorOptions& o) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "stages=blur,gradient,segmentation,line_fit,quad_search,read_payload(no quick_reject)\n"
+    << "widths=4,5,6\n"
+    << "seg_sigma=" << o.seg_sigma << "\n"
+    << "decode_sigma=" << o.decode_sigma << "\n"
+    << "half_resolution=" << (o.half_resolution ? 1 : 0) << "\n"
+    << "min_mag=" << o.segmentation.min_mag << "\n"
+    << "max_edge_cost=" << o.segmentation.max_edge_cost << "\n"
+    << "weight_scale=" << o.segmentation.weight_scale << "\n"
+    << "k_theta=" << o.segmentation.k_theta << "\n"
+    << "k_mag=" << o.segmentation.k_mag << "\n"
+    << "min_cluster_size=" << o.segmentation.min_cluster_size << "\n"
+    << "min_length=" << o.line_fit.min_length << "\n"
+    << "close_enough=" << rule_name(o.quad_search.close_enough) << "\n"
+    << "min_tag_size=" << o.quad_search.min_tag_size << "\n"
+    << "max_aspect=" << o.quad_search.max_aspect << "\n"
+    << "winding=" << o.quad_search.winding_min << "," << o.quad_search.winding_max << "\n"
+    << "grid_cell=" << o.quad_search.grid_cell << "\n"
+    << "max_quads=" << o.quad_search.max_quads << "\n"
+    << "segments_on_sides=" << (o.quad_search.segments_on_sides ? 1 : 0) << "\n"
+    << "min_contrast=" << o.payload.min_contrast << "\n";
+  return s.str();
+}
+
+std::vector<CandidateImage> corpus_images(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw std::runtime_error(dir.string() + ": no such directory");
+  std::vector<CandidateImage> out;
+  const fs::path manifest = dir / "manifest.tsv";
+  if (fs::exists(manifest)) {
+    for (const auto& row : parse_manifest(read_file(manifest), manifest.string())) {
+      CandidateImage i;
+      i.file = row.file;
+      i.group = row.group;
+      i.kind = row.kind;
+      out.push_back(std::move(i));
+    }
+    return out;
+  }
+  const FolderScan scan = scan_folder(dir);
+  for (const auto& s : scan.images) {
+    CandidateImage i;
+    i.file = fs::relative(s.file, dir).generic_string();
+    i.kind = "still";
+    out.push_back(std::move(i));
+  }
+  for (const auto& u : scan.unreadable) {  // listed, so the index accounts for every file
+    CandidateImage i;
+    i.file = fs::relative(u.file, dir).generic_string();
+    i.kind = "still";
+    i.status = "unreadable";
+    i.reason = u.reason;
+    out.push_back(std::move(i));
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.file < b.file; });
+  return out;
+}
+
+CandidateStore extract_candidates(const fs::path& dir, std::vector<CandidateImage> images, const DetectorOptions& opt,
+                                  int jobs, const std::function<void(const ExtractProgress&)>& progress) {
+  if (images.size() > std::numeric_limits<std::uint32_t>::max()) throw std::runtime_error("too many images");
+  CandidateStore store;
+  store.settings = candidate_settings(opt);
+  const std::size_t n = images.size();
+  std::vector<std::vector<CandidateRecord>> per(n);
+  std::atomic<std::size_t> next{0}, done{0};
+  std::mutex mu;
+  std::condition_variable wake;
+  std::atomic<std::uint64_t> quads{0};
+  auto work = [&] {
+    for (;;) {
+      const std::size_t i = next.fetch_add(1);
+      if (i >= n) return;
+      CandidateImage& im = images[i];
+      if (im.status == "ok") {
+        try {
+          const cv::Mat m = cv::imread((dir / im.file).string(), cv::IMREAD_UNCHANGED);
+          if (m.empty()) throw std::runtime_error("cannot be decoded");
+          im.width = m.cols;
+          im.height = m.rows;
+          std::size_t q = 0;
+          per[i] = image_candidates(to_float_image(m), static_cast<std::uint32_t>(i), opt, &q);
+          im.quads = q;
+          quads += q;
+        } catch (const std::exception& e) {
+          im.status = "unreadable";
+          im.reason = e.what();
+          per[i].clear();
+        }
+      }
+      {
+        const std::lock_guard<std::mutex> lock(mu);
+        ++done;
+      }
+      wake.notify_all();
+    }
+  };
+  // `jobs` workers; the calling thread only reports progress.
+  std::vector<std::thread> pool;
+  for (int t = 0; t < std::max(1, jobs); ++t) pool.emplace_back(work);
+  if (progress) {
+    std::unique_lock<std::mutex> lock(mu);
+    while (done.load() < n) {
+      progress({done.load(), n, quads.load()});
+      wake.wait_for(lock, std::chrono::milliseconds(250), [&] { return done.load() == n; });
+    }
+    lock.unlock();
+    progress({n, n, quads.load()});
+  }
+  for (auto& t : pool) t.join();
+  std::size_t total = 0;
+  for (const auto& v : per) total += v.size();
+  store.records.reserve(total);
+  for (auto& v : per) {
+    store.records.insert(store.records.end(), v.begin(), v.end());
+    std::vector<CandidateRecord>().swap(v);
+  }
+  store.quads = quads.load();
+  store.images = std::move(images);
+  return store;
+}
+
+std::string encode_candidates(const CandidateStore& s) {
+  std::string body;
+  body.reserve(s.settings.size() + s.records.size() * kRecordSize);
+  body += s.settings;
+  for (const auto& r : s.records) {
+    put<std::uint32_t>(body, r.image);
+    put<std::uint8_t>(body, r.d);
+    body.append(3, '\0');
+    put<std::uint64_t>(body, r.bits);
+    put<float>(body, r.margin);
+    for (const auto& c : r.corners) {
+      put<float>(body, c[0]);
+      put<float>(body, c[1]);
+    }
+  }
+  std::string out;
+  out.reserve(kHeaderSize + body.size());
+  out.append(kMagic, sizeof kMagic);
+  put<std::uint32_t>(out, kCandidatesVersion);
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(kRecordSize));
+  put<std::uint64_t>(out, s.images.size());
+  put<std::uint64_t>(out, s.quads);
+  put<std::uint64_t>(out, s.records.size());
+  put<std::uint64_t>(out, fnv1a(body.data(), body.size()));
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(s.settings.size()));
+  out += body;
+  return out;
+}
+
+CandidateStore decode_candidates(const std::string& bytes, const std::string& name) {
+  const auto fail = [&](const std::string& why) -> void { throw std::runtime_error(name + ": " + why); };
+  if (bytes.size() < kHeaderSize || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    fail(bytes.size() < kHeaderSize ? "too short for a candidate store header (" + std::to_string(bytes.size()) +
+                                          " bytes)"
+                                    : "not a candidate store (bad magic)");
+  const char* p = bytes.data() + 8;
+  const auto version = get<std::uint32_t>(p);
+  const auto record_size = get<std::uint32_t>(p + 4);
+  const auto n_images = get<std::uint64_t>(p + 8);
+  const auto n_quads = get<std::uint64_t>(p + 16);
+  const auto n_records = get<std::uint64_t>(p + 24);
+  const auto checksum = get<std::uint64_t>(p + 32);
+  const auto settings_len = get<std::uint32_t>(p + 40);
+  if (version != kCandidatesVersion)
+    fail("version " + std::to_string(version) + ", this program reads version " + std::to_string(kCandidatesVersion));
+  if (record_size != kRecordSize)
+    fail("record size " + std::to_string(record_size) + ", expected " + std::to_string(kRecordSize));
+  const std::uint64_t avail = bytes.size() - kHeaderSize;
+  if (settings_len > avail || n_records > (avail - settings_len) / kRecordSize ||
+      settings_len + n_records * kRecordSize != avail)
+    fail("size " + std::to_string(bytes.size()) + " bytes does not match the header (" + std::to_string(n_records) +
+         " records of " + std::to_string(kRecordSize) + " bytes); truncated or damaged");
+  if (fnv1a(bytes.data() + kHeaderSize, avail) != checksum) fail("checksum mismatch; the file is damaged");
+  if (n_images > std::numeric_limits<std::uint32_t>::max() + 1ULL) fail("image count out of range");
+  CandidateStore s;
+  s.settings.assign(bytes.data() + kHeaderSize, settings_len);
+  s.images.resize(static_cast<std::size_t>(n_images));
+  s.quads = n_quads;
+  s.records.resize(static_cast<std::size_t>(n_records));
+  const char* r = bytes.data() + kHeaderSize + settings_len;
+  for (std::size_t i = 0; i < s.records.size(); ++i, r += kRecordSize) {
+    CandidateRecord& c = s.records[i];
+    c.image = get<std::uint32_t>(r);
+    c.d = get<std::uint8_t>(r + 4);
+    c.bits = get<std::uint64_t>(r + 8);
+    c.margin = get<float>(r + 16);
+    for (std::size_t k = 0; k < 4; ++k) c.corners[k] = {get<float>(r + 20 + 8 * k), get<float>(r + 24 + 8 * k)};
+    const bool ok_d = std::find(kCandidateWidths.begin(), kCandidateWidths.end(), c.d) != kCandidateWidths.end();
+    bool finite = std::isfinite(c.margin);
+    for (const auto& k : c.corners) finite = finite && std::isfinite(k[0]) && std::isfinite(k[1]);
+    if (!ok_d || c.image >= n_images || r[5] || r[6] || r[7] || (ok_d && (c.bits & ~low_mask(c.d * c.d))) || !finite ||
+        (i > 0 && c.image < s.records[i - 1].image))
+      fail("record " + std::to_string(i) + " is invalid");
+  }
+  return s;
+}
+
+std::string candidate_index_tsv(const std::vector<CandidateImage>& images) {
+  std::string out = "id\tfile\tgroup\tkind\twidth\theight\tquads\tstatus\treason\n";
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const auto& m = images[i];
+    if (m.file.find_first_of("\t\n\r") != std::string::npos)
+      throw std::runtime_error("file name with a tab or newline: " + clean(m.file));
+    out += std::to_string(i) + "\t" + m.file + "\t" + clean(m.group) + "\t" + clean(m.kind) + "\t" +
+           std::to_string(m.width) + "\t" + std::to_string(m.height) + "\t" + std::to_string(m.quads) + "\t" +
+           m.status + "\t" + clean(m.reason) + "\n";
+  }
+  return out;
+}
+
+std::vector<CandidateImage> parse_candidate_index(const std::string& text, const std::string& name) {
+  std::vector<CandidateImage> out;
+  std::istringstream in(text);
+  std::string line;
+  int lineno = 0;
+  const auto fail = [&](const std::string& why) -> void {
+    throw std::runtime_error(name + ":" + std::to_string(lineno) + ": " + why);
+  };
+  while (std::getline(in, line)) {
+    ++lineno;
+    std::vector<std::string> f;
+    std::size_t start = 0;
+    for (;;) {
+      const auto tab = line.find('\t', start);
+      f.push_back(line.substr(start, tab == std::string::npos ? std::string::npos : tab - start));
+      if (tab == std::string::npos) break;
+      start = tab + 1;
+    }
+    if (f.size() != 9) fail("expected 9 columns, found " + std::to_string(f.size()));
+    if (lineno == 1) {
+      if (f[0] != "id" || f[1] != "file") fail("not a candidate index header");
+      continue;
+    }
+    try {
+      if (std::stoull(f[0]) != out.size()) fail("id " + f[0] + " out of sequence");
+      CandidateImage m;
+      m.file = f[1];
+      m.group = f[2];
+      m.kind = f[3];
+      m.width = std::stoi(f[4]);
+      m.height = std::stoi(f[5]);
+      m.quads = std::stoull(f[6]);
+      m.status = f[7];
+      m.reason = f[8];
+      if (m.status != "ok" && m.status != "unreadable") fail("bad status '" + m.status + "'");
+      out.push_back(std::move(m));
+    } catch (const std::logic_error&) {
+      fail("bad number");
+    }
+  }
+  if (lineno == 0) fail("empty index");
+  return out;
+}
+
+fs::path candidate_index_path(const fs::path& bin) {
+  fs::path p = bin;
+  p.replace_extension(".tsv");
+  if (p == bin) p += ".tsv";
+  return p;
+}
+
+void write_candidates(const fs::path& bin, const CandidateStore& s) {
+  write_file_atomic(candidate_index_path(bin), candidate_index_tsv(s.images));
+  write_file_atomic(bin, encode_candidates(s));
+}
+
+CandidateStore read_candidates(const fs::path& bin, bool with_index) {
+  CandidateStore s = decode_candidates(read_file(bin), bin.string());
+  if (with_index) {
+    const fs::path idx = candidate_index_path(bin);
+    auto images = parse_candidate_index(read_file(idx), idx.string());
+    if (images.size() != s.images.size())
+      throw std::runtime_error(idx.string() + ": " + std::to_string(images.size()) + " images, the store says " +
+                               std::to_string(s.images.size()));
+    s.images = std::move(images);
+  }
+  return s;
+}
+
+FamilyScore score_family(const std::vector<CandidateRecord>& records, const TagFamily& family, int max_k, int jobs) {
+  if (max_k < 0 || max_k > family.bits()) throw std::invalid_argument("max bits corrected out of range");
+  const int d = family.payload_width();
+  const std::size_t K = static_cast<std::size_t>(max_k);
+  if (jobs <= 0) jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const std::size_t n = records.size();
+  const std::size_t chunk = 1 << 14;
+  std::vector<std::vector<std::uint64_t>> hist(static_cast<std::size_t>(jobs), std::vector<std::uint64_t>(K + 2, 0));
+  std::atomic<std::size_t> next{0};
+  auto work = [&](std::vector<std::uint64_t>& h) {
+    for (;;) {
+      const std::size_t b = next.fetch_add(chunk);
+      if (b >= n) return;
+      const std::size_t e = std::min(n, b + chunk);
+      for (std::size_t i = b; i < e; ++i) {
+        const auto& r = records[i];
+        if (r.d != d) continue;
+        ++h[K + 1];  // records of this width
+        // decode with max_k returns the nearest code's distance (the only one in reach when
+        // max_k <= (h-1)/2), so decode(bits, k) accepts exactly when that distance is <= k.
+        if (const auto dec = family.decode(r.bits, max_k)) ++h[static_cast<std::size_t>(dec->hamming)];
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < jobs; ++t) pool.emplace_back(work, std::ref(hist[static_cast<std::size_t>(t)]));
+  work(hist[0]);
+  for (auto& t : pool) t.join();
+  FamilyScore s;
+  s.accepted.assign(K + 1, 0);
+  for (const auto& h : hist) {
+    s.quads += h[K + 1];
+    for (std::size_t k = 0; k <= K; ++k) s.accepted[k] += h[k];
+  }
+  for (std::size_t k = 1; k <= K; ++k) s.accepted[k] += s.accepted[k - 1];
+  return s;
+}
+
+}  // namespace tagbench::corpus

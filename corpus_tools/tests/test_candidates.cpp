@@ -1,0 +1,304 @@
+// Candidate quads and their payloads (issue 5, section 2) on a tiny corpus made here: a blank image,
+// noise, random rectangles and a rendered 36h11 tag. The tag's quad must be among the candidates
+// with its code as bits; the store must round-trip and refuse damage with one line; scoring must
+// equal TagFamily::decode record by record; --jobs must not change the store.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "candidates.hpp"
+#include "sources.hpp"
+#include "codes/families.hpp"
+#include "codes/tag_layout.hpp"
+#include "detect/tests/synthetic_tag.hpp"
+#include "util/atomic_file.hpp"
+
+namespace fs = std::filesystem;
+using namespace tagbench;
+using namespace tagbench::corpus;
+
+namespace {
+
+constexpr int kTagId = 42;
+const Corners kTagCorners = synth::square_tag_corners(150.5, 110.25, 96.0, 0.3);
+
+cv::Mat to_mat8(const ImageF& img) {
+  cv::Mat m(img.height, img.width, CV_8UC1);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      m.at<uchar>(y, x) = cv::saturate_cast<uchar>(img.at(x, y) * 255.0f + 0.5f);
+  return m;
+}
+
+const fs::path& corpus_dir() {
+  static const fs::path d = [] {
+    const fs::path p = fs::path(::testing::TempDir()) / ("tagbench_candidates_" + std::to_string(::getpid()));
+    fs::remove_all(p);
+    fs::create_directories(p / "sub");
+    std::mt19937 rng(7);
+    cv::imwrite((p / "blank.png").string(), cv::Mat(120, 160, CV_8UC1, cv::Scalar(128)));
+    cv::Mat noise(150, 200, CV_8UC1);
+    cv::randu(noise, 0, 256);
+    cv::imwrite((p / "noise.png").string(), noise);
+    for (int n = 0; n < 2; ++n) {  // random filled rectangles, some rotated, on a mid-grey background
+      cv::Mat r(240, 320, CV_8UC3, cv::Scalar(120, 130, 125));
+      for (int i = 0; i < 25; ++i) {
+        const cv::RotatedRect rr(cv::Point2f(static_cast<float>(rng() % 320), static_cast<float>(rng() % 240)),
+                                 cv::Size2f(static_cast<float>(15 + rng() % 80), static_cast<float>(15 + rng() % 80)),
+                                 static_cast<float>(rng() % 90));
+        cv::Point2f pts[4];
+        rr.points(pts);
+        std::vector<cv::Point> poly(pts, pts + 4);
+        const int v = static_cast<int>(rng() % 256);
+        cv::fillConvexPoly(r, poly, cv::Scalar(v, (v * 3) % 256, 255 - v), cv::LINE_AA);
+      }
+      cv::imwrite((p / "sub" / ("rects" + std::to_string(n) + ".png")).string(), r);
+    }
+    const TagCells cells = tag_cells(builtin_family("36h11"), kTagId);
+    const ImageF tag = synth::render_tag(300, 220, cells, synth::homography_for(kTagCorners), 0.6f, 4);
+    cv::imwrite((p / "tag.png").string(), to_mat8(tag));
+    std::ofstream(p / "broken.jpg") << "not a jpeg";
+    return p;
+  }();
+  return d;
+}
+
+ImageF load(const std::string& name) {
+  return to_float_image(cv::imread((corpus_dir() / name).string(), cv::IMREAD_UNCHANGED));
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+Result run(const std::string& args) {
+  const fs::path out = corpus_dir() / "stdout.txt", err = corpus_dir() / "stderr.txt";
+  const std::string cmd =
+      std::string(TAGBENCH_BIN) + " " + args + " >" + out.string() + " 2>" + err.string() + " </dev/null";
+  const int st = std::system(cmd.c_str());
+  Result r{WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), slurp(out), slurp(err)};
+  fs::remove(out);
+  fs::remove(err);
+  return r;
+}
+
+const CandidateStore& store1() {
+  static const CandidateStore s = extract_candidates(corpus_dir(), corpus_images(corpus_dir()), DetectorOptions{}, 1);
+  return s;
+}
+
+// Removes the corpus folder after the last test.
+struct Cleanup : ::testing::Environment {
+  void TearDown() override { fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_candidates_" + std::to_string(::getpid()))); }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new Cleanup);
+
+}  // namespace
+
+TEST(Candidates, RenderedTagIsAmongTheCandidatesWithItsCode) {
+  std::size_t quads = 0;
+  const auto recs = image_candidates(load("tag.png"), 3, DetectorOptions{}, &quads);
+  ASSERT_GT(quads, 0u);
+  const TagFamily& f = builtin_family("36h11");
+  const Code code = f.codes()[kTagId];
+  bool found = false;
+  for (const auto& r : recs) {
+    EXPECT_EQ(r.image, 3u);
+    ASSERT_TRUE(r.d == 4 || r.d == 5 || r.d == 6);
+    if (r.d != 6) continue;
+    bool is_code = false;
+    Code c = code;
+    for (int k = 0; k < 4; ++k, c = rotate90(c, 6)) is_code = is_code || r.bits == c;
+    if (!is_code) continue;
+    // Its corners are the tag's (in some cyclic order), to a pixel.
+    bool corners_match = false;
+    for (int s = 0; s < 4; ++s) {
+      double worst = 0;
+      for (int i = 0; i < 4; ++i) {
+        const auto& q = r.corners[static_cast<std::size_t>((i + s) % 4)];
+        worst = std::max(worst, (Eigen::Vector2d(q[0], q[1]) - kTagCorners[static_cast<std::size_t>(i)]).norm());
+      }
+      corners_match = corners_match || worst < 1.0;
+    }
+    EXPECT_TRUE(corners_match);
+    EXPECT_GT(r.margin, 0.5f);
+    found = true;
+  }
+  EXPECT_TRUE(found);
+  // Every quad gets at most one record per width, in quad order.
+  EXPECT_LE(recs.size(), 3 * quads);
+}
+
+TEST(Candidates, BlankImageHasNone) {
+  std::size_t quads = 99;
+  EXPECT_TRUE(image_candidates(load("blank.png"), 0, DetectorOptions{}, &quads).empty());
+  EXPECT_EQ(quads, 0u);
+}
+
+TEST(Candidates, CorpusImagesFromScanAndManifest) {
+  const auto imgs = corpus_images(corpus_dir());
+  ASSERT_EQ(imgs.size(), 6u);  // 5 images + the broken file, sorted by path
+  EXPECT_EQ(imgs[0].file, "blank.png");
+  EXPECT_EQ(imgs[1].file, "broken.jpg");
+  EXPECT_EQ(imgs[1].status, "unreadable");
+  EXPECT_EQ(imgs[3].file, "sub/rects0.png");
+  EXPECT_EQ(imgs[5].file, "tag.png");
+  const auto& s = store1();
+  ASSERT_EQ(s.images.size(), 6u);
+  EXPECT_EQ(s.images[5].width, 300);
+  EXPECT_EQ(s.images[5].height, 220);
+  EXPECT_EQ(s.images[0].quads, 0u);
+  EXPECT_GT(s.images[3].quads + s.images[4].quads, 5u);  // rectangles make quads
+  std::uint64_t q = 0;
+  for (const auto& i : s.images) q += i.quads;
+  EXPECT_EQ(q, s.quads);
+  for (std::size_t i = 1; i < s.records.size(); ++i) EXPECT_LE(s.records[i - 1].image, s.records[i].image);
+}
+
+TEST(Candidates, StoreRoundTripAndJobsIndependence) {
+  const auto& s = store1();
+  ASSERT_FALSE(s.records.empty());
+  const fs::path bin = corpus_dir() / "out" / "c.bin";
+  fs::create_directories(bin.parent_path());
+  write_candidates(bin, s);
+  EXPECT_TRUE(fs::exists(corpus_dir() / "out" / "c.tsv"));
+  const auto r = read_candidates(bin);
+  EXPECT_EQ(r.settings, s.settings);
+  EXPECT_EQ(r.quads, s.quads);
+  EXPECT_EQ(r.images, s.images);
+  EXPECT_EQ(r.records, s.records);
+  EXPECT_EQ(r.settings, candidate_settings(DetectorOptions{}));
+  // Two workers give the same bytes.
+  const auto s2 = extract_candidates(corpus_dir(), corpus_images(corpus_dir()), DetectorOptions{}, 2);
+  EXPECT_EQ(encode_candidates(s2), encode_candidates(s));
+  EXPECT_EQ(candidate_index_tsv(s2.images), candidate_index_tsv(s.images));
+}
+
+TEST(Candidates, DamagedStoresAreRefusedWithOneLine) {
+  const std::string good = encode_candidates(store1());
+  const std::size_t rec0 = good.size() - store1().records.size() * 52;  // first record's offset
+  std::vector<std::pair<std::string, std::string>> bad = {
+      {"empty", ""},
+      {"short header", good.substr(0, 20)},
+      {"truncated by one byte", good.substr(0, good.size() - 1)},
+      {"half a record missing", good.substr(0, good.size() - 26)},
+      {"one byte too many", good + "x"},
+  };
+  auto flip = [&](std::size_t at, const std::string& what) {
+    std::string b = good;
+    b[at] = static_cast<char>(b[at] ^ 0x10);
+    bad.emplace_back(what, b);
+  };
+  flip(0, "magic");
+  flip(8, "version");
+  flip(12, "record size");
+  flip(40, "record count");
+  flip(rec0 + 9, "record bits");
+  flip(good.size() - 3, "last corner");
+  flip(rec0 - 2, "settings text");
+  for (const auto& [what, bytes] : bad) {
+    try {
+      decode_candidates(bytes, "x.bin");
+      ADD_FAILURE() << what << " was accepted";
+    } catch (const std::runtime_error& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind("x.bin: ", 0), 0u) << what << ": " << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos) << what;
+    }
+  }
+  EXPECT_NO_THROW(decode_candidates(good, "x.bin"));
+  // The program says so in one line and fails.
+  const fs::path f = corpus_dir() / "out" / "cut.bin";
+  fs::create_directories(f.parent_path());
+  write_file_atomic(f, good.substr(0, good.size() - 7));
+  const auto r = run("corpus score --candidates " + f.string() + " --family 36h11");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("cut.bin"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(Candidates, ScoreEqualsDecodeRecordByRecord) {
+  const auto& recs = store1().records;
+  for (const std::string name : {"36h11", "25h9", "16h5"}) {
+    const TagFamily& f = builtin_family(name);
+    const int K = f.min_hamming() + 1;  // beyond (h-1)/2 too: nearest-code semantics
+    const auto s = score_family(recs, f, K, 3);
+    ASSERT_EQ(s.accepted.size(), static_cast<std::size_t>(K + 1));
+    std::uint64_t quads = 0;
+    for (const auto& r : recs) quads += r.d == f.payload_width();
+    EXPECT_EQ(s.quads, quads) << name;
+    EXPECT_GT(quads, 0u) << name;
+    for (int k = 0; k <= K; ++k) {
+      std::uint64_t n = 0;
+      for (const auto& r : recs) n += r.d == f.payload_width() && f.decode(r.bits, k).has_value();
+      EXPECT_EQ(s.accepted[static_cast<std::size_t>(k)], n) << name << " k=" << k;
+      if (k > 0 && 2 * k < f.min_hamming()) {
+        EXPECT_GE(s.accepted[static_cast<std::size_t>(k)], s.accepted[static_cast<std::size_t>(k - 1)]);
+      }
+    }
+    EXPECT_LE(s.accepted.back(), s.quads);
+  }
+  // The rendered tag is accepted by 36h11 without correction.
+  EXPECT_GE(score_family(recs, builtin_family("36h11"), 0).accepted[0], 1u);
+  EXPECT_THROW(score_family(recs, builtin_family("16h5"), 17), std::invalid_argument);
+}
+
+TEST(Candidates, CommandLine) {
+  const fs::path a = corpus_dir() / "out" / "j1.bin", b = corpus_dir() / "out" / "j2.bin";
+  const auto r1 = run("corpus candidates --corpus " + corpus_dir().string() + " --out " + a.string() + " --jobs 1");
+  ASSERT_EQ(r1.code, 0) << r1.err;
+  const auto r2 = run("corpus candidates --corpus " + corpus_dir().string() + " --out " + b.string() + " --jobs 2");
+  ASSERT_EQ(r2.code, 0) << r2.err;
+  EXPECT_EQ(slurp(a), slurp(b));
+  EXPECT_EQ(slurp(corpus_dir() / "out" / "j1.tsv"), slurp(corpus_dir() / "out" / "j2.tsv"));
+  EXPECT_EQ(slurp(a), encode_candidates(store1()));
+  EXPECT_NE(r1.err.find("unreadable: broken.jpg"), std::string::npos) << r1.err;
+
+  const auto s = run("corpus score --candidates " + a.string() + " --family 36h11,16h5 --max-bits 2");
+  ASSERT_EQ(s.code, 0) << s.err;
+  std::istringstream in(s.out);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "family\tbits_corrected\tquads\taccepted\trate");
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 6u);
+  const auto sc = score_family(store1().records, builtin_family("36h11"), 2);
+  EXPECT_EQ(rows[0].rfind("36h11\t0\t" + std::to_string(sc.quads) + "\t" + std::to_string(sc.accepted[0]) + "\t", 0),
+            0u)
+      << rows[0];
+  EXPECT_EQ(rows[3].rfind("16h5\t0\t", 0), 0u) << rows[3];
+
+  // A corpus with a manifest is read through it.
+  const fs::path m = corpus_dir() / "withmanifest";
+  fs::create_directories(m / "stills" / "g");
+  fs::copy_file(corpus_dir() / "tag.png", m / "stills" / "g" / "t.png");
+  write_file_atomic(m / "manifest.tsv",
+                    manifest_tsv({{"stills/g/t.png", "g", "pkg", "1", "/usr/t.png", "MIT", std::string(64, 'a'),
+                                   "still", -1}}));
+  const auto rm = run("corpus candidates --corpus " + m.string() + " --jobs 2");
+  ASSERT_EQ(rm.code, 0) << rm.err;
+  const auto st = read_candidates(m / "corpus_candidates.bin");
+  ASSERT_EQ(st.images.size(), 1u);
+  EXPECT_EQ(st.images[0].group, "g");
+  EXPECT_EQ(st.images[0].kind, "still");
+  EXPECT_GE(score_family(st.records, builtin_family("36h11"), 0).accepted[0], 1u);
+  EXPECT_NE(run("corpus candidates --corpus " + (m / "nope").string()).code, 0);
+}
