@@ -63,6 +63,20 @@ std::vector<std::string> Args::all(const std::string& name) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
+std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (const char c : s + ",") {
+    if (c == ',') {
+      if (!cur.empty()) out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  return out;
+}
+
 long long parse_int(const std::string& option, const std::string& text, long long lo, long long hi) {
   long long v = 0;
   const auto r = std::from_chars(text.data(), text.data() + text.size(), v);

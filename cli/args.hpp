@@ -45,6 +45,9 @@ class Args {
   std::vector<std::string> positionals_;
 };
 
+// "a,b,,c" -> {"a", "b", "c"}: the comma-separated lists of options like --families; empty items dropped.
+std::vector<std::string> split_commas(const std::string& s);
+
 long long parse_int(const std::string& option, const std::string& text, long long lo, long long hi);
 double parse_double(const std::string& option, const std::string& text, double lo, double hi);
 

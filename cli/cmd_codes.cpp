@@ -73,19 +73,6 @@ recorded runs of the shipped 36-bit families (from their files). Writes CSV (def
 results/generator_speed.csv).
 )";
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (const char c : s + ",") {
-    if (c == ',') {
-      if (!cur.empty()) out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  return out;
-}
 }  // namespace
 
 int cmd_generator_speed(const Words& w) {
@@ -96,10 +83,10 @@ int cmd_generator_speed(const Words& w) {
   if (!std::filesystem::is_directory(std::filesystem::absolute(out).parent_path()))
     throw UsageError("--out " + out.string() + ": no such directory");
   std::vector<int> threads;
-  for (const auto& t : split(a.get_or("threads", "1," + std::to_string(hardware_threads()))))
+  for (const auto& t : split_commas(a.get_or("threads", "1," + std::to_string(hardware_threads()))))
     threads.push_back(static_cast<int>(parse_int("--threads", t, 1, 1024)));
   if (threads.empty()) throw UsageError("--threads: empty list");
-  const auto families = split(a.get_or("families", "16h5,25h9,25h7"));
+  const auto families = split_commas(a.get_or("families", "16h5,25h9,25h7"));
   for (const auto& f : families) builtin_family(f);  // unknown names fail before any timing
   auto rows = measure_generator_speed(families, threads);
   for (auto& r : recorded_generator_runs()) rows.push_back(std::move(r));
