@@ -17,24 +17,18 @@
 #include "codes/families.hpp"
 #include "codes/family_io.hpp"
 
+#include "run_tagbench.hpp"
+
 namespace fs = std::filesystem;
 using namespace tagbench;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using Result = tagbench::testing::CommandResult;
 
 std::string bin() { return TAGBENCH_BIN; }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using tagbench::testing::slurp;
 
 fs::path scratch(const std::string& name) {
   const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_cli_" + std::to_string(::getpid()));
@@ -42,12 +36,7 @@ fs::path scratch(const std::string& name) {
   return d / name;
 }
 
-Result run(const std::string& args) {
-  const fs::path out = scratch("stdout"), err = scratch("stderr");
-  const std::string cmd = bin() + " " + args + " >" + out.string() + " 2>" + err.string() + " </dev/null";
-  const int st = std::system(cmd.c_str());
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), slurp(out), slurp(err)};
-}
+Result run(const std::string& args) { return tagbench::testing::run_tagbench(args, scratch("").parent_path()); }
 
 // A bad input: non-zero exit, exactly one line on stderr mentioning `fragment`, and `out` not created.
 void expect_refused(const std::string& args, const std::string& fragment, const fs::path& out = {}) {

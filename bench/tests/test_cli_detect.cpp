@@ -21,23 +21,17 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "run_tagbench.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
 // ---- running the program ----------------------------------------------------------------------
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using Result = tagbench::testing::CommandResult;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using tagbench::testing::slurp;
 
 fs::path scratch_dir() {
   const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_cli_detect_" + std::to_string(::getpid()));
@@ -54,19 +48,10 @@ fs::path fresh(const std::string& name) {
 }
 
 // Shell quoting for paths with quotes and backslashes.
-std::string q(const std::string& s) {
-  std::string r = "'";
-  for (const char c : s) r += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return r + "'";
-}
+std::string q(const std::string& s) { return tagbench::testing::shell_quote(s); }
 std::string q(const fs::path& p) { return q(p.string()); }
 
-Result run(const std::string& args) {
-  const fs::path out = scratch_dir() / "stdout", err = scratch_dir() / "stderr";
-  const std::string cmd = std::string(TAGBENCH_BIN) + " " + args + " >" + q(out) + " 2>" + q(err) + " </dev/null";
-  const int st = std::system(cmd.c_str());
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), slurp(out), slurp(err)};
-}
+Result run(const std::string& args) { return tagbench::testing::run_tagbench(args, scratch_dir()); }
 
 int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 

@@ -18,22 +18,16 @@
 #include "sha256.hpp"
 #include "sources.hpp"
 
+#include "run_tagbench.hpp"
+
 namespace fs = std::filesystem;
 using namespace tagbench::corpus;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using Result = tagbench::testing::CommandResult;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using tagbench::testing::slurp;
 
 const fs::path& root() {
   static const fs::path d = [] {
@@ -45,13 +39,7 @@ const fs::path& root() {
   return d;
 }
 
-Result run(const std::string& args) {
-  const fs::path out = root() / "stdout", err = root() / "stderr";
-  const std::string cmd = std::string(TAGBENCH_BIN) + " " + args + " >" + out.string() + " 2>" + err.string() +
-                          " </dev/null";
-  const int st = std::system(cmd.c_str());
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), slurp(out), slurp(err)};
-}
+Result run(const std::string& args) { return tagbench::testing::run_tagbench(args, root()); }
 
 std::string png_bytes(const cv::Mat& m) {
   std::vector<unsigned char> b;

@@ -16,21 +16,15 @@
 #include "raytrace/render.hpp"
 #include "test_frames.hpp"
 
+#include "run_tagbench.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using Result = tagbench::testing::CommandResult;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using tagbench::testing::slurp;
 
 fs::path scratch() {
   const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_cli_raytrace_" + std::to_string(::getpid()));
@@ -38,13 +32,7 @@ fs::path scratch() {
   return d;
 }
 
-Result run(const std::string& args) {
-  const fs::path out = scratch() / "stdout", err = scratch() / "stderr";
-  const std::string cmd = std::string(TAGBENCH_BIN) + " raytrace " + args + " >" + out.string() + " 2>" +
-                          err.string() + " </dev/null";
-  const int st = std::system(cmd.c_str());
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), slurp(out), slurp(err)};
-}
+Result run(const std::string& args) { return tagbench::testing::run_tagbench("raytrace " + args, scratch()); }
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;

@@ -1,0 +1,42 @@
+#pragma once
+// Shared by the command-line tests: run the built `tagbench` (TAGBENCH_BIN, a compile definition set
+// by tagbench_add_test) with stdout and stderr captured through files, stdin from /dev/null.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace tagbench::testing {
+
+struct CommandResult {
+  int code = -1;  // exit status; 128 + signal when killed
+  std::string out, err;
+};
+
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A shell word: single-quoted, inner quotes escaped.
+inline std::string shell_quote(const std::string& s) {
+  std::string r = "'";
+  for (const char c : s) r += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return r + "'";
+}
+
+// `tagbench ARGS`, its output captured in files inside `dir` (which must exist).
+inline CommandResult run_tagbench(const std::string& args, const std::filesystem::path& dir) {
+  const std::filesystem::path out = dir / "stdout", err = dir / "stderr";
+  const std::string cmd = std::string(TAGBENCH_BIN) + " " + args + " >" + shell_quote(out.string()) + " 2>" +
+                          shell_quote(err.string()) + " </dev/null";
+  const int st = std::system(cmd.c_str());
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), slurp(out), slurp(err)};
+}
+
+}  // namespace tagbench::testing
