@@ -98,7 +98,9 @@ TEST(Cli, GenerateWritesTheFamilyFileAndCpp) {
 
 TEST(Cli, KilledGenerationResumesToTheIdenticalFamily) {
   const fs::path ckpt = scratch("25h7.ckpt"), out = scratch("25h7.fam");
+  // The scratch folder is named by pid and may hold files of an earlier run whose pid was the same.
   fs::remove(ckpt);
+  fs::remove(out);
   const std::string args = "family generate --bits 25 --hamming 7 --threads 1 --checkpoint-seconds 0.02 --checkpoint " +
                            ckpt.string() + " --out " + out.string();
   const pid_t pid = ::fork();
