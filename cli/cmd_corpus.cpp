@@ -2,6 +2,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "build.hpp"
@@ -18,7 +20,8 @@ namespace tagbench::cli {
 namespace {
 constexpr const char* kHelp = R"(usage: tagbench corpus build [options]
        tagbench corpus list --from DIR
-       tagbench corpus candidates --corpus DIR [--out FILE] [--jobs N]
+       tagbench corpus candidates --corpus DIR [--shard i/N] [--out FILE] [--jobs N]
+       tagbench corpus merge --out FILE SHARD.bin...
        tagbench corpus score --candidates FILE --family F... [--max-bits K]
 
 build: the default natural-image corpus from the Debian packages named in the lists
@@ -43,12 +46,32 @@ list: every image under DIR, recursively, as TSV on stdout (status, file, width,
 unreadable files are listed with the reason and counted, not fatal. A summary goes to stderr.
 
 candidates: the detector's stages up to the quad search (default detector settings) on every image
-of DIR (DIR/manifest.tsv, or every image under DIR when there is no manifest), and for every
-candidate quad the 4x4, 5x5 and 6x6 payload read with the detector's varying threshold. No
-pre-filter: every quad whose payload can be read is kept (the paper's false-positive count).
+of DIR (DIR/manifest.tsv, or every image under DIR when there is no manifest, but for the stores
+named corpus_candidates* in DIR itself), and for every candidate quad the 4x4, 5x5 and 6x6 payload
+read with the detector's varying threshold. No pre-filter: every quad whose payload can be read is
+kept (the paper's false-positive count).
   --out FILE        the store (default DIR/corpus_candidates.bin); the image index goes beside it
                     with extension .tsv (id, file, group, kind, width, height, quads, status, reason)
   --jobs N          images processed at once (default: all cores); the store does not depend on it
+  --shard i/N       only shard i (0 <= i < N) of the corpus' image list: the contiguous block of rows
+                    [i*M/N, (i+1)*M/N) of its M images, for splitting a big corpus over machines. The
+                    store (default DIR/corpus_candidates-shard-i-of-N.bin) records the shard, M and
+                    hashes of the image list in its settings; join the N stores with `corpus merge`.
+                    Every shard lists the whole corpus itself, so all must see the same folder
+                    (a folder without manifest.tsv is scanned, every image decoded, in every shard).
+
+merge: joins the shard stores (any order; their .tsv indexes beside them) into the store of the
+whole corpus, byte for byte what `corpus candidates` without --shard writes (.bin and .tsv). It
+refuses, naming the file, shards made with other detector settings, another N or another corpus
+list, a shard given twice or missing, a damaged store or an index that does not fit it; nothing is
+written then.
+  --out FILE        the merged store (required); the index goes beside it
+Example: 64 shards with GNU parallel (4 one-thread jobs at a time) or as a Slurm job array (--jobs
+as allocated: the default counts every core of the node), then the merge (in any order):
+  seq 0 63 | parallel -j 4 tagbench corpus candidates --corpus big --jobs 1 --shard {}/64 --out shards/{}.bin
+  sbatch --array=0-63 --cpus-per-task=8 --wrap 'tagbench corpus candidates --corpus big --jobs 8 \
+      --shard $SLURM_ARRAY_TASK_ID/64 --out shards/$SLURM_ARRAY_TASK_ID.bin'
+  tagbench corpus merge --out big/corpus_candidates.bin shards/*.bin
 
 score: for each family, the stored quads of its payload size whose bits decode (any rotation)
 within k bits, for k = 0..K; a table (family, bits_corrected, quads, accepted, rate) on stdout.
@@ -110,35 +133,48 @@ int corpus_list(const Words& w) {
   return 0;
 }
 int corpus_candidates(const Words& w) {
-  const Args a(w, {{"corpus"}, {"out"}, {"jobs"}});
+  const Args a(w, {{"corpus"}, {"out"}, {"jobs"}, {"shard"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   const auto dir = a.get("corpus");
   if (!dir) throw UsageError("--corpus DIR is required");
+  std::optional<corpus::Shard> shard;
+  if (const auto v = a.get("shard")) {
+    try {
+      shard = corpus::parse_shard(*v);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--shard ") + e.what());
+    }
+  }
   if (!std::filesystem::is_directory(*dir)) throw UsageError("--corpus " + *dir + ": no such directory");
-  const std::filesystem::path out = a.get_or("out", (std::filesystem::path(*dir) / "corpus_candidates.bin").string());
+  // Each shard gets its own default name, so shards run into one folder do not overwrite each other.
+  const std::string default_name =
+      shard ? "corpus_candidates-shard-" + std::to_string(shard->index) + "-of-" + std::to_string(shard->count) + ".bin"
+            : std::string("corpus_candidates.bin");
+  const std::filesystem::path out = a.get_or("out", (std::filesystem::path(*dir) / default_name).string());
   const int jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
   auto images = corpus::corpus_images(*dir);
+  std::string shard_note;
+  if (shard) {
+    const auto [first, last] = corpus::shard_range(images.size(), *shard);
+    shard_note = "shard " + std::to_string(shard->index) + "/" + std::to_string(shard->count) + ": rows " +
+                 std::to_string(first) + " to " + std::to_string(last) + " (exclusive) of " +
+                 std::to_string(images.size()) + "; ";
+  }
   const auto t0 = std::chrono::steady_clock::now();
   corpus::CandidateStore store;
   {
     ProgressBar bar("candidates");
-    store = corpus::extract_candidates(*dir, std::move(images), DetectorOptions{}, jobs,
-                                       [&](const corpus::ExtractProgress& p) {
-                                         const double s = std::chrono::duration<double>(
-                                                              std::chrono::steady_clock::now() - t0).count();
-                                         const double rate = s > 0 ? static_cast<double>(p.images_done) / s : 0;
-                                         const double left =
-                                             rate > 0 ? static_cast<double>(p.images_total - p.images_done) / rate : -1;
-                                         char detail[96];
-                                         std::snprintf(detail, sizeof detail, "%llu quads, %.3g images/s",
-                                                       static_cast<unsigned long long>(p.quads), rate);
-                                         bar.update(p.images_total ? static_cast<double>(p.images_done) /
-                                                                         static_cast<double>(p.images_total)
-                                                                   : 1.0,
-                                                    std::to_string(p.images_done) + "/" +
-                                                        std::to_string(p.images_total),
-                                                    detail, left);
-                                       });
+    const auto report = [&](const corpus::ExtractProgress& p) {
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double rate = s > 0 ? static_cast<double>(p.images_done) / s : 0;
+      const double left = rate > 0 ? static_cast<double>(p.images_total - p.images_done) / rate : -1;
+      char detail[96];
+      std::snprintf(detail, sizeof detail, "%llu quads, %.3g images/s", static_cast<unsigned long long>(p.quads), rate);
+      bar.update(p.images_total ? static_cast<double>(p.images_done) / static_cast<double>(p.images_total) : 1.0,
+                 std::to_string(p.images_done) + "/" + std::to_string(p.images_total), detail, left);
+    };
+    store = shard ? corpus::extract_candidate_shard(*dir, images, *shard, DetectorOptions{}, jobs, report)
+                  : corpus::extract_candidates(*dir, std::move(images), DetectorOptions{}, jobs, report);
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
@@ -150,13 +186,36 @@ int corpus_candidates(const Words& w) {
     mpix += static_cast<double>(i.width) * i.height / 1e6;
   }
   std::fprintf(stderr,
-               "tagbench corpus candidates: %zu images (%zu unreadable), %llu quads, %zu payload records in %s "
+               "tagbench corpus candidates: %s%zu images (%zu unreadable), %llu quads, %zu payload records in %s "
                "(%.1f s; %.3g images/s, %.3g Mpx/s, %.3g quads/s)\n",
-               store.images.size(), unreadable, static_cast<unsigned long long>(store.quads), store.records.size(),
-               out.string().c_str(), secs, secs > 0 ? static_cast<double>(store.images.size()) / secs : 0,
-               secs > 0 ? mpix / secs : 0, secs > 0 ? static_cast<double>(store.quads) / secs : 0);
+               shard_note.c_str(), store.images.size(), unreadable, static_cast<unsigned long long>(store.quads),
+               store.records.size(), out.string().c_str(), secs,
+               secs > 0 ? static_cast<double>(store.images.size()) / secs : 0, secs > 0 ? mpix / secs : 0,
+               secs > 0 ? static_cast<double>(store.quads) / secs : 0);
   for (const auto& i : store.images)
     if (i.status != "ok") std::fprintf(stderr, "  unreadable: %s: %s\n", i.file.c_str(), i.reason.c_str());
+  return 0;
+}
+
+int corpus_merge(const Words& w) {
+  const Args a(w, {{"out"}});
+  const auto out = a.get("out");
+  if (!out) throw UsageError("--out FILE is required");
+  if (a.positionals().empty()) throw UsageError("no shard stores given (SHARD.bin...)");
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<corpus::CandidateStore> shards;
+  for (const auto& f : a.positionals()) shards.push_back(corpus::read_candidates(f, true));
+  const std::size_t n = shards.size();
+  // Everything is checked before anything is written, so a refused merge leaves no file behind.
+  const auto store = corpus::merge_candidates(std::move(shards), a.positionals());
+  const std::filesystem::path path(*out);
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  corpus::write_candidates(path, store);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::fprintf(stderr,
+               "tagbench corpus merge: %zu shards, %zu images, %llu quads, %zu payload records in %s (%.1f s)\n", n,
+               store.images.size(), static_cast<unsigned long long>(store.quads), store.records.size(),
+               path.string().c_str(), secs);
   return 0;
 }
 
@@ -206,8 +265,9 @@ int cmd_corpus(const Words& w) {
   if (w[0] == "build") return corpus_build(rest);
   if (w[0] == "list") return corpus_list(rest);
   if (w[0] == "candidates") return corpus_candidates(rest);
+  if (w[0] == "merge") return corpus_merge(rest);
   if (w[0] == "score") return corpus_score(rest);
-  throw UsageError("unknown subcommand '" + w[0] + "' (build, list, candidates, score)");
+  throw UsageError("unknown subcommand '" + w[0] + "' (build, list, candidates, merge, score)");
 }
 
 }  // namespace tagbench::cli

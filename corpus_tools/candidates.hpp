@@ -15,7 +15,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "codes/bits.hpp"
@@ -64,7 +66,8 @@ struct CandidateStore {
   std::uint64_t quads = 0;               // candidate quads over all images
 };
 
-// The images of a corpus: DIR/manifest.tsv if there is one, else every image under DIR (scan.hpp).
+// The images of a corpus: DIR/manifest.tsv if there is one, else every image under DIR (scan.hpp)
+// but for files named corpus_candidates* directly in DIR (the stores this program writes there).
 std::vector<CandidateImage> corpus_images(const std::filesystem::path& dir);
 
 struct ExtractProgress {
@@ -90,6 +93,56 @@ std::filesystem::path candidate_index_path(const std::filesystem::path& bin);
 CandidateStore decode_candidates(const std::string& bytes, const std::string& name);
 CandidateStore read_candidates(const std::filesystem::path& bin, bool with_index = true);
 std::vector<CandidateImage> parse_candidate_index(const std::string& text, const std::string& name);
+
+// Sharding (issue 5, section 4): a corpus too big for one machine is split into N shards, shard i
+// being the contiguous block of rows [i*M/N, (i+1)*M/N) of corpus_images' M rows, so the shards in
+// order are the whole list. A shard store is an ordinary store of its block (image ids local to it)
+// whose settings text ends with these lines, which let a merge prove the shards fit together:
+//   shard=i/N
+//   shard_first_row=ROW          the block's first row in the corpus list
+//   corpus_images=M
+//   corpus_list_fnv1a=HEX        FNV-1a 64 of all M rows' "file TAB group TAB kind LF": same corpus?
+//   shard_list_fnv1a=HEX         the same over the block's rows: does the .tsv index belong to it?
+// merge_candidates checks them and re-bases the ids; its store is byte for byte the unsharded run's.
+struct Shard {
+  std::uint64_t index = 0, count = 1;  // shard `index` of `count`, 0 <= index < count
+  bool operator==(const Shard&) const = default;
+};
+// "i/N" (decimal, 0 <= i < N); throws std::invalid_argument with a one-line reason.
+Shard parse_shard(const std::string& text);
+// The rows [first, second) of shard s of a list of `images` rows. Throws std::invalid_argument for
+// a shard out of range.
+std::pair<std::size_t, std::size_t> shard_range(std::size_t images, Shard s);
+
+struct ShardInfo {
+  Shard shard;
+  std::uint64_t first_row = 0;
+  std::uint64_t corpus_images = 0;
+  std::uint64_t corpus_list = 0;  // hashes as described above
+  std::uint64_t shard_list = 0;
+  bool operator==(const ShardInfo&) const = default;
+};
+// FNV-1a 64 of rows [first, last) of `images` (file, group, kind; as the index stores them).
+std::uint64_t image_list_hash(const std::vector<CandidateImage>& images, std::size_t first, std::size_t last);
+// The shard lines above, to append to the detector settings.
+std::string shard_settings_lines(const ShardInfo& info);
+// Splits a store's settings: nullopt when there is no shard= line (an unsharded store); otherwise
+// the shard's lines, and the detector settings before them into `detector_settings` if given.
+// Throws std::runtime_error "NAME: problem" when the shard lines are malformed.
+std::optional<ShardInfo> parse_shard_settings(const std::string& settings, const std::string& name,
+                                              std::string* detector_settings = nullptr);
+
+// extract_candidates over shard s of `images` (the whole corpus list), the shard lines appended
+// to the settings.
+CandidateStore extract_candidate_shard(const std::filesystem::path& dir, const std::vector<CandidateImage>& images,
+                                       Shard s, const DetectorOptions& opt, int jobs,
+                                       const std::function<void(const ExtractProgress&)>& progress = {});
+
+// Joins shard stores (read with their index; any order) into the store of the whole corpus.
+// Throws std::runtime_error with one line naming the file (names[k], or "shard store k+1" when
+// names is short) when a store is not a shard, the detector settings, N, M or the corpus list
+// differ, a shard is duplicated or missing, or a shard's rows or index do not fit its lines.
+CandidateStore merge_candidates(std::vector<CandidateStore> shards, const std::vector<std::string>& names = {});
 
 // Scoring: for k = 0..max_k, how many records of payload width family.payload_width() decode with
 // hamming <= k, exactly TagFamily::decode(bits, k) != nullopt. One decode per record with max_k,

@@ -1,7 +1,8 @@
 // `tagbench corpus build` end to end against a small local fake: a .deb made here with dpkg-deb
 // (a large PNG, a Qt resource bundle holding a PNG, an MJPEG clip and a folder of frames), lists
 // naming them, --debs instead of apt-get. Checks the outputs, the manifest, the no-op rebuild and
-// the changed-file error; and `tagbench corpus list`.
+// the changed-file error; `tagbench corpus list`; and `corpus candidates --shard` with `corpus
+// merge` against the single run, byte for byte, and the merge's refusals.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,6 +15,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "candidates.hpp"
 #include "rcc_writer.hpp"
 #include "sha256.hpp"
 #include "sources.hpp"
@@ -40,6 +42,14 @@ const fs::path& root() {
 }
 
 Result run(const std::string& args) { return tagbench::testing::run_tagbench(args, root()); }
+
+// Removes the test folder after the last test (each ctest run is its own process and folder).
+struct Cleanup : ::testing::Environment {
+  void TearDown() override {
+    fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_corpus_cli_" + std::to_string(::getpid())));
+  }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new Cleanup);
 
 std::string png_bytes(const cv::Mat& m) {
   std::vector<unsigned char> b;
@@ -229,4 +239,209 @@ TEST(CorpusCli, ListFolder) {
   EXPECT_NE(r.out.find("ok\t" + (d / "x" / "good.png").string() + "\t10\t8\t\n"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("unreadable\t" + (d / "bad.jpg").string() + "\t\t\t"), std::string::npos) << r.out;
   EXPECT_NE(r.err.find("1 images, 1 unreadable, 1 other files"), std::string::npos) << r.err;
+}
+
+// ---- Shards: `corpus candidates --shard i/N` and `corpus merge` (issue 5, section 4) ----
+
+namespace {
+
+// A small scanned corpus: three synthetic scenes (tags in perspective on clutter, so there are
+// quads), a mid-grey image without any, and a file that does not decode. Sorted: a.png, b.png,
+// broken.jpg, sub/c.png, z.png (M = 5).
+const fs::path& shard_corpus() {
+  static const fs::path d = [] {
+    const fs::path p = root() / "shardcorpus";
+    fs::create_directories(p / "sub");
+    int seed = 1;
+    for (const char* name : {"a.png", "b.png", "sub/c.png"}) {
+      const Result r = run("scene --width 320 --height 240 --count 3 --seed " + std::to_string(seed++) + " -o " +
+                           (p / name).string());
+      EXPECT_EQ(r.code, 0) << r.err;
+    }
+    cv::imwrite((p / "z.png").string(), cv::Mat(100, 90, CV_8UC1, cv::Scalar(128)));
+    put(p / "broken.jpg", "not a jpeg");
+    return p;
+  }();
+  return d;
+}
+
+fs::path shard_file(std::uint64_t i, std::uint64_t n) {
+  return root() / ("shards" + std::to_string(n)) / (std::to_string(i) + ".bin");
+}
+
+// Runs shard i of n of the corpus into shard_file(i, n) (once per process).
+void make_shard(std::uint64_t i, std::uint64_t n) {
+  if (fs::exists(shard_file(i, n))) return;
+  const Result r = run("corpus candidates --corpus " + shard_corpus().string() + " --shard " + std::to_string(i) +
+                       "/" + std::to_string(n) + " --jobs " + std::to_string(1 + i % 2) + " --out " +
+                       shard_file(i, n).string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("shard " + std::to_string(i) + "/" + std::to_string(n) + ": rows "), std::string::npos) << r.err;
+}
+
+// The single, unsharded run (once per process).
+fs::path single_run() {
+  const fs::path bin = root() / "single" / "c.bin";
+  if (!fs::exists(bin)) {
+    const Result r = run("corpus candidates --corpus " + shard_corpus().string() + " --jobs 2 --out " + bin.string());
+    EXPECT_EQ(r.code, 0) << r.err;
+  }
+  return bin;
+}
+
+void copy_store(const fs::path& from, const fs::path& to) {
+  fs::copy_file(from, to, fs::copy_options::overwrite_existing);
+  fs::copy_file(candidate_index_path(from), candidate_index_path(to), fs::copy_options::overwrite_existing);
+}
+
+}  // namespace
+
+TEST(CorpusCli, MergedShardsAreByteIdenticalToTheSingleRun) {
+  const fs::path single = single_run();
+  const std::string bin = slurp(single), tsv = slurp(candidate_index_path(single));
+  // Not a vacuous comparison: the scenes give quads and payload records, and the index lists all 5.
+  const CandidateStore whole = read_candidates(single);
+  ASSERT_EQ(whole.images.size(), 5u);
+  EXPECT_GT(whole.quads, 5u);
+  EXPECT_GT(whole.records.size(), 10u);
+  EXPECT_EQ(whole.images[2].status, "unreadable");
+
+  // N = 3: rows [0,1), [1,3), [3,5). N = 8 > M = 5: shards 0, 2 and 5 are empty.
+  for (const std::uint64_t n : {3u, 8u}) {
+    std::string files;
+    for (std::uint64_t i = n; i-- > 0;) {  // given in reverse: the order must not matter
+      make_shard(i, n);
+      files.append(" ").append(shard_file(i, n).string());
+    }
+    if (n == 8) {
+      for (const std::uint64_t i : {0u, 2u, 5u}) EXPECT_TRUE(read_candidates(shard_file(i, n)).images.empty()) << i;
+    } else {
+      const CandidateStore s1 = read_candidates(shard_file(1, n));
+      ASSERT_EQ(s1.images.size(), 2u);
+      EXPECT_EQ(s1.images[0].file, "b.png");
+      for (const auto& r : s1.records) EXPECT_LT(r.image, 2u);  // ids local to the shard
+    }
+    const fs::path merged = root() / ("merged" + std::to_string(n)) / "c.bin";
+    const Result r = run("corpus merge --out " + merged.string() + files);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("tagbench corpus merge: " + std::to_string(n) + " shards, 5 images"), std::string::npos)
+        << r.err;
+    EXPECT_TRUE(slurp(merged) == bin) << "N=" << n << ": the merged .bin differs from the single run's";
+    EXPECT_EQ(slurp(candidate_index_path(merged)), tsv) << "N=" << n;
+  }
+
+  // One shard of one, under its default name in the corpus folder, is the whole corpus too.
+  const Result one = run("corpus candidates --corpus " + shard_corpus().string() + " --shard 0/1 --jobs 2");
+  ASSERT_EQ(one.code, 0) << one.err;
+  const fs::path def = shard_corpus() / "corpus_candidates-shard-0-of-1.bin";
+  ASSERT_TRUE(fs::exists(def));
+  EXPECT_NE(slurp(def), bin);  // the shard lines are in its settings
+  const fs::path merged1 = root() / "merged1" / "c.bin";
+  ASSERT_EQ(run("corpus merge --out " + merged1.string() + " " + def.string()).code, 0);
+  EXPECT_TRUE(slurp(merged1) == bin);
+  EXPECT_EQ(slurp(candidate_index_path(merged1)), tsv);
+  fs::remove(def);
+  fs::remove(candidate_index_path(def));
+}
+
+TEST(CorpusCli, MergeAndShardRefusals) {
+  for (std::uint64_t i = 0; i < 3; ++i) make_shard(i, 3);
+  const fs::path s0 = shard_file(0, 3), s1 = shard_file(1, 3), s2 = shard_file(2, 3);
+  const fs::path bad = root() / "bad";
+  fs::create_directories(bad);
+  const fs::path out = root() / "refused" / "c.bin";
+
+  // Refused with one line "tagbench corpus: ..." containing `needle`, exit `code`, nothing written.
+  const auto refused = [&](const std::string& args, const std::string& needle, int code = 1) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, code) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("tagbench corpus: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "wanted: " << needle << "\ngot: " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+    EXPECT_FALSE(fs::exists(candidate_index_path(out))) << args;
+  };
+  const auto merge = [&](const std::vector<fs::path>& files) {
+    std::string a = "corpus merge --out " + out.string();
+    for (const auto& f : files) a.append(" ").append(f.string());
+    return a;
+  };
+  ASSERT_EQ(run(merge({s0, s1, s2})).code, 0);  // the three are fine together
+  fs::remove(out);
+  fs::remove(candidate_index_path(out));
+
+  refused(merge({s0, s2}), "shard 1/3 is missing: 2 of 3 shards given (" + s0.string() + ", " + s2.string() + ")");
+  refused(merge({s1, s2}), "shard 0/3 is missing");
+  copy_store(s1, bad / "dup.bin");
+  refused(merge({s0, s1, bad / "dup.bin", s2}),
+          (bad / "dup.bin").string() + ": shard 1/3 is also given as " + s1.string());
+  refused(merge({s0, s1, s1, s2}), s1.string() + ": shard 1/3 is also given as " + s1.string());
+
+  // Other detector settings: shard 2 as if run with another blur.
+  {
+    CandidateStore s = read_candidates(s2);
+    const auto at = s.settings.find("seg_sigma=");
+    ASSERT_NE(at, std::string::npos);
+    s.settings.replace(at, s.settings.find('\n', at) - at, "seg_sigma=2");
+    write_candidates(bad / "sigma.bin", s);
+  }
+  refused(merge({s0, s1, bad / "sigma.bin"}),
+          (bad / "sigma.bin").string() + ": detector settings differ from " + s0.string() + "'s ('seg_sigma=2'");
+
+  // Another N.
+  make_shard(1, 2);
+  refused(merge({s0, shard_file(1, 2), s2}), shard_file(1, 2).string() + ": shard 1/2, but " + s0.string() +
+                                                 " is shard 0/3");
+
+  // A corpus that changed between the shards' runs: an image added.
+  {
+    const fs::path grown = root() / "grown";
+    fs::create_directories(grown / "sub");
+    for (const char* f : {"a.png", "b.png", "broken.jpg", "sub/c.png", "z.png"})
+      fs::copy_file(shard_corpus() / f, grown / f, fs::copy_options::overwrite_existing);
+    cv::imwrite((grown / "y.png").string(), cv::Mat(50, 60, CV_8UC1, cv::Scalar(90)));
+    const Result r = run("corpus candidates --corpus " + grown.string() + " --shard 2/3 --out " +
+                         (bad / "grown2.bin").string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    refused(merge({s0, s1, bad / "grown2.bin"}),
+            (bad / "grown2.bin").string() + ": made from a corpus list of 6 images");
+  }
+
+  // Damaged shards: cut short, a flipped byte, no index, an index of another shard.
+  {
+    const std::string bytes = slurp(s1);
+    copy_store(s1, bad / "cut.bin");
+    put(bad / "cut.bin", bytes.substr(0, bytes.size() - 5));
+    refused(merge({s0, bad / "cut.bin", s2}), (bad / "cut.bin").string() + ": size ");
+    std::string flipped = bytes;
+    flipped[flipped.size() - 7] = static_cast<char>(flipped[flipped.size() - 7] ^ 0x04);
+    copy_store(s1, bad / "flip.bin");
+    put(bad / "flip.bin", flipped);
+    refused(merge({s0, bad / "flip.bin", s2}), (bad / "flip.bin").string() + ": checksum mismatch");
+    fs::copy_file(s1, bad / "noindex.bin", fs::copy_options::overwrite_existing);
+    refused(merge({s0, bad / "noindex.bin", s2}), (bad / "noindex.tsv").string());
+    copy_store(s1, bad / "otherindex.bin");
+    fs::copy_file(candidate_index_path(s2), bad / "otherindex.tsv", fs::copy_options::overwrite_existing);
+    refused(merge({s0, bad / "otherindex.bin", s2}),
+            (bad / "otherindex.bin").string() + ": its image index (.tsv) does not list the images");
+    put(bad / "garbage.bin", "garbage");
+    refused(merge({s0, s1, s2, bad / "garbage.bin"}), (bad / "garbage.bin").string() + ": too short");
+  }
+
+  // An unsharded store among the shards.
+  refused(merge({s0, s1, s2, single_run()}), single_run().string() + ": not a shard store");
+
+  // Usage: no --out, no shards.
+  refused("corpus merge " + s0.string(), "--out FILE is required", 2);
+  refused("corpus merge --out " + out.string(), "no shard stores given", 2);
+
+  // Bad --shard values: refused before anything is read or written.
+  const std::string cand = "corpus candidates --corpus " + shard_corpus().string() + " --out " + out.string();
+  refused(cand + " --shard 3/3", "--shard '3/3': i must be below N", 2);
+  refused(cand + " --shard=-1/2", "--shard '-1/2': not of the form i/N", 2);
+  refused(cand + " --shard -1/2", "--shard '-1/2': not of the form i/N", 2);
+  refused(cand + " --shard 1/0", "--shard '1/0': N must be at least 1", 2);
+  refused(cand + " --shard x/y", "--shard 'x/y': not of the form i/N", 2);
+  refused(cand + " --shard 1/2/3", "--shard '1/2/3'", 2);
+  refused(cand + " --shard", "--shard needs a value", 2);
 }
