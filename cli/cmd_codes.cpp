@@ -51,10 +51,10 @@ int cmd_codes(const Words& w) {
     js << "}" << (i + 1 < table.size() ? "," : "") << "\n";
   }
   js << "  ]\n}\n";
-  write_file_atomic(dir / "code_table.csv", code_table_csv(table));
-  write_file_atomic(dir / "fig5_hamming.csv", fig5_csv(table));
-  write_file_atomic(dir / "fp_theory.csv", fp_theory_csv(fp));
-  write_file_atomic(dir / "codes.json", js.str());
+  write_files_atomic({{dir / "code_table.csv", code_table_csv(table)},
+                      {dir / "fig5_hamming.csv", fig5_csv(table)},
+                      {dir / "fp_theory.csv", fp_theory_csv(fp)},
+                      {dir / "codes.json", js.str()}});
   std::fprintf(stderr, "tagbench codes: wrote code_table.csv, fig5_hamming.csv, fp_theory.csv, codes.json in %s\n",
                dir.string().c_str());
   return 0;

@@ -469,6 +469,36 @@ class QuietStderr {
   int saved_ = -1;
 };
 
+// libjpeg pads a JPEG whose data ends early with grey and only warns, so OpenCV would hand us the
+// partial picture as if it were whole. A JPEG is complete when its markers lead to the end-of-image
+// marker (FF D9); segments are skipped by their lengths (so a thumbnail's own EOI inside APP1 does not
+// count) and entropy-coded data up to the next marker. Bytes after the EOI are allowed.
+bool jpeg_is_complete(const std::string& b) {
+  const auto at = [&](std::size_t i) { return static_cast<unsigned char>(b[i]); };
+  std::size_t i = 2;  // after SOI
+  while (i < b.size()) {
+    if (at(i) != 0xff) {  // stray bytes between segments: libjpeg skips them too
+      ++i;
+      continue;
+    }
+    while (i < b.size() && at(i) == 0xff) ++i;  // fill bytes
+    if (i >= b.size()) return false;
+    const unsigned m = at(i++);
+    if (m == 0xd9) return true;                                        // EOI
+    if (m == 0x00 || m == 0x01 || (m >= 0xd0 && m <= 0xd7)) continue;  // no length
+    if (i + 2 > b.size()) return false;
+    const std::size_t len = (static_cast<std::size_t>(at(i)) << 8) | at(i + 1);
+    if (len < 2 || i + len > b.size()) return false;
+    i += len;
+    if (m != 0xda) continue;
+    // After SOS: entropy-coded data, where FF is followed by 00 (a data byte) or RST0-7.
+    while (i + 1 < b.size() && !(at(i) == 0xff && at(i + 1) != 0x00 && !(at(i + 1) >= 0xd0 && at(i + 1) <= 0xd7)))
+      ++i;
+    if (i + 1 >= b.size()) return false;
+  }
+  return false;
+}
+
 // Reads and decodes an image file; throws std::runtime_error with the reason.
 cv::Mat load_image(const fs::path& path) {
   std::string bytes;
@@ -482,6 +512,8 @@ cv::Mat load_image(const fs::path& path) {
     bytes = ss.str();
   }
   if (bytes.empty()) throw std::runtime_error("empty file (0 bytes)");
+  if (bytes.size() >= 3 && bytes.compare(0, 3, "\xff\xd8\xff") == 0 && !jpeg_is_complete(bytes))
+    throw std::runtime_error("truncated JPEG (the data ends before the end-of-image marker)");
   const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data()));
   cv::Mat img;
   try {
@@ -548,6 +580,20 @@ class Processor {
     return o;
   }
 
+  // After the run: the directories it created that hold nothing (their inputs failed, e.g. on a full
+  // disk) are removed, deepest first. Not done in fail(): another worker may be about to write there.
+  void remove_empty_created_dirs() const {
+    std::lock_guard<std::mutex> lock(dir_mutex_);
+    std::vector<fs::path> dirs = created_dirs_;
+    std::sort(dirs.begin(), dirs.end(), [](const fs::path& a, const fs::path& b) {
+      return std::distance(a.begin(), a.end()) > std::distance(b.begin(), b.end());
+    });
+    for (const auto& d : dirs) {
+      std::error_code ec;
+      fs::remove(d, ec);  // fails, harmlessly, on a directory with files in it
+    }
+  }
+
  private:
   static void fail(Outcome& o, const std::vector<fs::path>& written, const std::string& why) {
     for (const auto& p : written) {
@@ -565,6 +611,10 @@ class Processor {
     std::lock_guard<std::mutex> lock(dir_mutex_);
     std::error_code ec;
     if (fs::is_directory(dir, ec)) return;
+    for (fs::path d = dir; !d.empty() && !fs::exists(d, ec); d = d.parent_path()) {
+      created_dirs_.push_back(d);
+      if (d == d.parent_path()) break;
+    }
     fs::create_directories(dir, ec);
     if (ec) throw std::runtime_error("cannot create directory " + dir.string() + ": " + ec.message());
   }
@@ -572,6 +622,7 @@ class Processor {
   const Settings& s_;
   const Detector& det_;
   mutable std::mutex dir_mutex_;
+  mutable std::vector<fs::path> created_dirs_;  // by make_parent, for remove_empty_created_dirs
 };
 
 // ------------------------------------------------------------------------------------------------
@@ -913,6 +964,7 @@ int cmd_detect(const Words& words) {
     }
     pipe.finish();
   }
+  proc.remove_empty_created_dirs();
   sink.end();
   return sink.failures() > 0 ? 1 : 0;
 }

@@ -167,8 +167,16 @@ int cmd_raytrace(const Words& w) {
   ro.povray = a.get_or("povray", "povray");
   ro.max_frames_per_process = 50;
   const std::filesystem::path out = a.get_or("out", "results");
-  if (std::filesystem::exists(out) && !std::filesystem::is_directory(out))
-    throw UsageError("--out " + out.string() + ": not a directory");
+  // Refused before any rendering: an --out that is, or would lie under, something other than a folder.
+  for (std::filesystem::path p = out; !p.empty(); p = p.parent_path()) {
+    std::error_code ec;
+    if (std::filesystem::exists(p, ec)) {
+      if (!std::filesystem::is_directory(p, ec))
+        throw UsageError("--out " + out.string() + ": " + (p == out ? "" : p.string() + " is ") + "not a directory");
+      break;
+    }
+    if (p == p.parent_path()) break;
+  }
 
   std::optional<ProgressBar> bar;
   SweepProgress progress;
@@ -209,10 +217,17 @@ int cmd_raytrace(const Words& w) {
     std::fprintf(stderr, "tagbench raytrace: %zu more frames not rendered (listed in the JSON sidecar)\n",
                  failures - kFailuresShown);
   const std::string stem = result_stem(s.experiment);
-  std::filesystem::create_directories(out);
-  write_file_atomic(out / (stem + ".csv"), rows_csv(r));
-  write_file_atomic(out / (stem + "_summary.csv"), summary_csv(r, summarize(r)));
-  write_file_atomic(out / (stem + ".json"), sidecar_json(r));
+  const bool made_out = std::filesystem::create_directories(out);
+  try {
+    // The rows, their summary and the settings together or none of them.
+    write_files_atomic({{out / (stem + ".csv"), rows_csv(r)},
+                        {out / (stem + "_summary.csv"), summary_csv(r, summarize(r))},
+                        {out / (stem + ".json"), sidecar_json(r)}});
+  } catch (...) {
+    std::error_code ec;
+    if (made_out) std::filesystem::remove(out, ec);  // only if still empty: a failed run leaves no folder
+    throw;
+  }
   std::fprintf(stderr,
                "tagbench raytrace %s: %zu frames (%zu distinct: %zu rendered, %zu from the cache, %zu failed) x %zu "
                "detectors; wrote %s.csv, %s_summary.csv, %s.json in %s\n",

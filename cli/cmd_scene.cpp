@@ -53,8 +53,8 @@ int cmd_scene(const Words& w) {
   js << "]}\n";
   std::filesystem::path side = out;
   side.replace_extension(".json");
-  write_file_atomic(side, js.str());
-  write_file_atomic(out, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+  // The picture and its ground truth together or neither (a full disk must not leave the JSON alone).
+  write_files_atomic({{side, js.str()}, {out, std::string(png.begin(), png.end())}});
   return 0;
 }
 

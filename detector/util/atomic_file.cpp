@@ -12,8 +12,15 @@
 
 namespace tagbench {
 
-void write_file_atomic(const std::filesystem::path& target, std::string_view content) {
-  const std::filesystem::path tmp = target.string() + ".tmp." + std::to_string(::getpid());
+namespace {
+
+std::filesystem::path temporary_for(const std::filesystem::path& target) {
+  return target.string() + ".tmp." + std::to_string(::getpid());
+}
+
+// Writes `content` to target's temporary and syncs it; on failure removes it and throws.
+void write_temporary(const std::filesystem::path& target, std::string_view content) {
+  const std::filesystem::path tmp = temporary_for(target);
   const auto fail = [&](const char* what) {
     const std::string reason = std::strerror(errno);
     ::unlink(tmp.c_str());
@@ -36,7 +43,42 @@ void write_file_atomic(const std::filesystem::path& target, std::string_view con
   }
   if (::fsync(fd) != 0) { ::close(fd); fail("fsync"); }
   if (::close(fd) != 0) fail("close");
-  if (::rename(tmp.c_str(), target.c_str()) != 0) fail("rename");
+}
+
+void rename_temporary(const std::filesystem::path& target) {
+  const std::filesystem::path tmp = temporary_for(target);
+  if (::rename(tmp.c_str(), target.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    ::unlink(tmp.c_str());
+    throw std::runtime_error("cannot write " + target.string() + ": rename: " + reason);
+  }
+}
+
+}  // namespace
+
+void write_file_atomic(const std::filesystem::path& target, std::string_view content) {
+  write_temporary(target, content);
+  rename_temporary(target);
+}
+
+void write_files_atomic(const std::vector<std::pair<std::filesystem::path, std::string>>& files) {
+  std::size_t staged = 0;
+  try {
+    for (; staged < files.size(); ++staged) write_temporary(files[staged].first, files[staged].second);
+  } catch (...) {
+    for (std::size_t i = 0; i < staged; ++i) ::unlink(temporary_for(files[i].first).c_str());
+    throw;
+  }
+  // Renames within a folder do not fail for want of space; should one fail anyway, the temporaries
+  // not yet renamed go too.
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    try {
+      rename_temporary(files[i].first);
+    } catch (...) {
+      for (std::size_t k = i + 1; k < files.size(); ++k) ::unlink(temporary_for(files[k].first).c_str());
+      throw;
+    }
+  }
 }
 
 std::string read_file(const std::filesystem::path& path) {

@@ -7,9 +7,11 @@
 
 namespace tagbench {
 
+// On a terminal the bar shows at once; in a log the first line comes after a minute, so a short run
+// (or one that fails early) prints nothing but its result or its one-line error.
 ProgressBar::ProgressBar(std::string label, bool enabled)
     : label_(std::move(label)), enabled_(enabled), tty_(::isatty(STDERR_FILENO) != 0),
-      last_(std::chrono::steady_clock::now() - std::chrono::hours(1)) {}
+      last_(std::chrono::steady_clock::now() - (tty_ ? std::chrono::hours(1) : std::chrono::hours(0))) {}
 
 ProgressBar::~ProgressBar() {
   if (drawn_ && tty_) std::fputc('\n', stderr);
@@ -29,7 +31,7 @@ void ProgressBar::update(double fraction, const std::string& count, const std::s
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
   const auto min_gap = tty_ ? std::chrono::milliseconds(200) : std::chrono::milliseconds(60000);
-  if (now - last_ < min_gap && fraction < 1.0) return;
+  if (now - last_ < min_gap && (fraction < 1.0 || (!tty_ && !drawn_))) return;
   last_ = now;
   fraction = std::fmin(1.0, std::fmax(0.0, fraction));
   if (tty_) {

@@ -1,0 +1,507 @@
+// The bad-input matrix (issue 6, item 3): one table of hostile inputs to the `tagbench` commands.
+// Every case runs the real program in a fresh scratch folder (its working directory) and asserts:
+//   - the expected exit code, a normal exit (no signal, no core dump, code < 128);
+//   - on an error, exactly one line on stderr that names the input and the problem;
+//     on success (valid but odd inputs), nothing on stderr and the expected text on stdout;
+//   - the scratch folder lists the same files with the same sizes after the run as before it:
+//     no output, no partial output and no temporary beside it is left behind.
+// A full disk is simulated with RLIMIT_FSIZE and SIGXFSZ ignored in the child, so its writes fail
+// with EFBIG like on a full file system; stdout and stderr are pipes, which the limit does not touch.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "codes/families.hpp"
+#include "codes/tag_layout.hpp"
+#include "run_tagbench.hpp"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---- the child process --------------------------------------------------------------------------
+
+struct Limits {
+  long long fsize = 0;      // > 0: RLIMIT_FSIZE in bytes (a full disk)
+  const char* path = nullptr;  // non-null: PATH, relative to the scratch folder (e.g. an empty folder)
+};
+
+struct ChildRun {
+  int status = 0;
+  bool timed_out = false;
+  std::string out, err;
+};
+
+// Runs `tagbench args` in `cwd` with stdin from /dev/null and stdout/stderr read through pipes.
+ChildRun run_child(const fs::path& cwd, const std::vector<std::string>& args, const Limits& lim) {
+  // Everything the child needs is built before fork: after it only async-signal-safe calls.
+  std::vector<std::string> words = {TAGBENCH_BIN};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  std::vector<std::string> env_words;
+  for (char** e = environ; *e; ++e)
+    if (!lim.path || std::strncmp(*e, "PATH=", 5) != 0) env_words.emplace_back(*e);
+  if (lim.path) env_words.push_back("PATH=" + (cwd / lim.path).string());
+  std::vector<char*> envp;
+  for (auto& w : env_words) envp.push_back(w.data());
+  envp.push_back(nullptr);
+  const std::string dir = cwd.string();
+
+  int out[2], err[2];
+  if (::pipe2(out, O_CLOEXEC) != 0 || ::pipe2(err, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_RDONLY);
+    if (::chdir(dir.c_str()) != 0 || null < 0 || ::dup2(null, 0) < 0 || ::dup2(out[1], 1) < 0 ||
+        ::dup2(err[1], 2) < 0)
+      ::_exit(126);
+    if (lim.fsize > 0) {
+      const rlimit r{static_cast<rlim_t>(lim.fsize), static_cast<rlim_t>(lim.fsize)};
+      ::signal(SIGXFSZ, SIG_IGN);  // kept across exec: writes past the limit fail with EFBIG
+      if (::setrlimit(RLIMIT_FSIZE, &r) != 0) ::_exit(126);
+    }
+    ::execve(argv[0], argv.data(), envp.data());
+    ::_exit(127);
+  }
+  ::close(out[1]);
+  ::close(err[1]);
+  ChildRun r;
+  std::array<pollfd, 2> fds{{{out[0], POLLIN, 0}, {err[0], POLLIN, 0}}};
+  std::string* sinks[2] = {&r.out, &r.err};
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+  int open_fds = 2;
+  while (open_fds > 0) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {  // a hang is a failure, not a stuck test run
+      r.timed_out = true;
+      ::kill(pid, SIGKILL);
+      break;
+    }
+    if (::poll(fds.data(), fds.size(), static_cast<int>(std::min<long long>(left.count(), 1000))) < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    for (std::size_t i = 0; i < fds.size(); ++i) {
+      if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+      char buf[65536];
+      const ssize_t n = ::read(fds[i].fd, buf, sizeof buf);
+      if (n > 0) {
+        sinks[i]->append(buf, static_cast<std::size_t>(n));
+      } else if (n == 0 || errno != EINTR) {
+        ::close(fds[i].fd);
+        fds[i].fd = -1;
+        --open_fds;
+      }
+    }
+  }
+  for (const auto& f : fds)
+    if (f.fd >= 0) ::close(f.fd);
+  while (::waitpid(pid, &r.status, 0) < 0 && errno == EINTR) {
+  }
+  return r;
+}
+
+// ---- the scratch folder -------------------------------------------------------------------------
+
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    std::string templ = (fs::path(::testing::TempDir()) / "tagbench_bad_input_XXXXXX").string();
+    if (!::mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
+    dir = templ;
+  }
+  ~Scratch() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+// Every entry under `dir`, sorted: relative path, type and (for files) size.
+std::vector<std::string> listing(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator(); ++it) {
+    const auto st = it->symlink_status();
+    std::string e = fs::relative(it->path(), dir).string();
+    if (fs::is_directory(st)) e += "/";
+    else if (fs::is_regular_file(st)) e.append(" ").append(std::to_string(fs::file_size(it->path())));
+    out.push_back(e);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// ---- inputs -------------------------------------------------------------------------------------
+
+using Setup = std::function<void(const fs::path& dir)>;
+
+void put(const fs::path& p, const std::string& bytes) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p, std::ios::binary) << bytes;
+}
+
+std::string encode(const cv::Mat& img, const char* ext) {
+  std::vector<std::uint8_t> buf;
+  if (!cv::imencode(ext, img, buf)) throw std::runtime_error(std::string("cannot encode ") + ext);
+  return {buf.begin(), buf.end()};
+}
+
+// Tag `id` of 16h5, 10 px a cell, on 30 px of white margin.
+cv::Mat tag_image(int id) {
+  const tagbench::TagCells c = tagbench::tag_cells(tagbench::builtin_family("16h5"), id);
+  constexpr int k = 10, margin = 30;
+  cv::Mat img(c.n * k + 2 * margin, c.n * k + 2 * margin, CV_8UC1, cv::Scalar(255));
+  for (int y = 0; y < c.n; ++y)
+    for (int x = 0; x < c.n; ++x)
+      if (!c.at(y, x)) img(cv::Rect(margin + x * k, margin + y * k, k, k)).setTo(0);
+  return img;
+}
+
+std::uint32_t crc32(const std::string& s) {
+  std::uint32_t c = 0xffffffffu;
+  for (const char ch : s) {
+    c ^= static_cast<unsigned char>(ch);
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return ~c;
+}
+
+std::string be32(std::uint32_t v) {
+  return {static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8), static_cast<char>(v)};
+}
+
+const std::string kPngSignature("\x89PNG\r\n\x1a\n", 8);
+
+// A well-formed PNG header (valid CRCs) that declares a 0 x 1 image.
+std::string png_zero_width() {
+  const std::string ihdr = "IHDR" + be32(0) + be32(1) + std::string("\x08\x00\x00\x00\x00", 5);
+  return kPngSignature + be32(13) + ihdr + be32(crc32(ihdr)) + be32(0) + "IEND" + be32(crc32("IEND"));
+}
+
+// The first `fraction` of `bytes`: a file cut short.
+std::string head(const std::string& bytes, double fraction) {
+  return bytes.substr(0, static_cast<std::size_t>(static_cast<double>(bytes.size()) * fraction));
+}
+
+std::string random_bytes(std::size_t n) {
+  std::mt19937 rng(6);
+  std::string s(n, '\0');
+  for (char& c : s) c = static_cast<char>(rng() & 0xff);
+  return s;
+}
+
+std::string shipped_16h5() {
+  return tagbench::testing::slurp(fs::path(TAGBENCH_SOURCE_DIR) / "detector/codes/families/tag16h5.fam");
+}
+
+// The shipped 16h5 file with one edit.
+std::string edited_16h5(const std::string& from, const std::string& to) {
+  std::string t = shipped_16h5();
+  const auto at = t.find(from);
+  if (at == std::string::npos) throw std::runtime_error("16h5 file has no '" + from + "'");
+  return t.replace(at, from.size(), to);
+}
+
+Setup file(const std::string& name, std::function<std::string()> bytes) {
+  return [=](const fs::path& d) { put(d / name, bytes()); };
+}
+Setup folder(const std::string& name) {
+  return [=](const fs::path& d) { fs::create_directories(d / name); };
+}
+Setup all(std::vector<Setup> steps) {
+  return [=](const fs::path& d) {
+    for (const auto& s : steps) s(d);
+  };
+}
+
+std::function<std::string()> png(std::function<cv::Mat()> img) {
+  return [=] { return encode(img(), ".png"); };
+}
+std::function<std::string()> text(const std::string& t) {
+  return [=] { return t; };
+}
+
+// The one frame of `raytrace angle --trials 1 --angles 0` rendered into cache/ (POV-Ray, about a
+// second), so that a run under a file size limit needs no rendering and fails only on its results.
+void cached_raytrace_frame(const fs::path& d) {
+  const ChildRun r = run_child(d,
+                               {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full",
+                                "--cache", "cache", "--processes", "1", "--out", "setup-out"},
+                               {});
+  if (!WIFEXITED(r.status) || WEXITSTATUS(r.status) != 0) throw std::runtime_error("rendering the frame failed: " + r.err);
+  fs::remove_all(d / "setup-out");
+}
+
+// Inputs used by many cases.
+const Setup kTag = file("tag.png", png([] { return tag_image(3); }));
+const Setup kRegularFile = file("file.txt", text("a regular file, so file.txt/... cannot be created\n"));
+
+// ---- the table ----------------------------------------------------------------------------------
+
+struct Case {
+  std::string name;
+  Setup setup;
+  std::vector<std::string> args;
+  int code;
+  std::vector<std::string> expect;  // in stderr (an error) or stdout (exit 0)
+  Limits limits{};
+};
+
+std::ostream& operator<<(std::ostream& o, const Case& c) { return o << c.name; }
+
+const std::vector<Case>& cases() {
+  static const std::vector<Case> table = {
+      // --- detect: inputs ---
+      {"detect_missing_file", {}, {"detect", "missing.png"}, 1, {"missing.png: no such file"}},
+      {"detect_folder_without_images", all({folder("empty"), file("empty/notes.txt", text("no image\n"))}),
+       {"detect", "empty"}, 1, {"empty: directory has no image files"}},
+      {"detect_corrupt_png", file("corrupt.png", [] { return kPngSignature + random_bytes(4000); }),
+       {"detect", "corrupt.png"}, 1, {"corrupt.png: cannot decode"}},
+      {"detect_truncated_png", file("half.png", [] { return head(encode(tag_image(3), ".png"), 0.5); }),
+       {"detect", "half.png"}, 1, {"half.png: cannot decode"}},
+      {"detect_truncated_jpeg", file("half.jpg", [] { return head(encode(tag_image(3), ".jpg"), 0.6); }),
+       {"detect", "half.jpg"}, 1, {"half.jpg: truncated JPEG"}},
+      {"detect_progressive_jpeg_with_trailing_bytes",
+       file("tail.jpg", [] {
+         std::vector<std::uint8_t> b;
+         cv::imencode(".jpg", tag_image(3), b, {cv::IMWRITE_JPEG_PROGRESSIVE, 1});
+         return std::string(b.begin(), b.end()) + "bytes after the end-of-image marker";
+       }),
+       {"detect", "--family", "16h5", "tail.jpg"}, 0, {"\"family\": \"16h5\", \"id\": 3,", "\"errors\": []"}},
+      {"detect_empty_png_0x0", file("empty.png", text("")), {"detect", "empty.png"}, 1,
+       {"empty.png: empty file (0 bytes)"}},
+      {"detect_png_header_0x1", file("zero.png", png_zero_width), {"detect", "zero.png"}, 1,
+       {"zero.png: cannot decode"}},
+      {"detect_1x1_has_no_tags", file("one.png", png([] { return cv::Mat(1, 1, CV_8UC1, cv::Scalar(90)); })),
+       {"detect", "one.png"}, 0,
+       {"\"input\": \"one.png\", \"width\": 1, \"height\": 1,", "\"detections\": []}", "\"errors\": []"}},
+      {"detect_65535x1_has_no_tags", file("wide.png", png([] { return cv::Mat(1, 65535, CV_8UC1, cv::Scalar(90)); })),
+       {"detect", "wide.png"}, 0,
+       {"\"input\": \"wide.png\", \"width\": 65535, \"height\": 1,", "\"detections\": []}", "\"errors\": []"}},
+      {"detect_1x65535_has_no_tags", file("tall.png", png([] { return cv::Mat(65535, 1, CV_8UC1, cv::Scalar(90)); })),
+       {"detect", "tall.png"}, 0,
+       {"\"input\": \"tall.png\", \"width\": 1, \"height\": 65535,", "\"detections\": []}", "\"errors\": []"}},
+      {"detect_16bit_png", file("deep.png", png([] { cv::Mat m; tag_image(3).convertTo(m, CV_16UC1, 257); return m; })),
+       {"detect", "--family", "16h5", "deep.png"}, 0, {"\"family\": \"16h5\", \"id\": 3,", "\"errors\": []"}},
+      {"detect_rgba_png", file("rgba.png", png([] { cv::Mat m; cv::cvtColor(tag_image(3), m, cv::COLOR_GRAY2BGRA); return m; })),
+       {"detect", "--family", "16h5", "rgba.png"}, 0, {"\"family\": \"16h5\", \"id\": 3,", "\"errors\": []"}},
+      {"detect_image_over_max_pixels", file("huge.png", png([] { return cv::Mat(10001, 10000, CV_8UC1, cv::Scalar(90)); })),
+       {"detect", "huge.png"}, 1, {"huge.png: ", "10000x10001"}},
+      // --- detect: options ---
+      {"detect_camera_nan", kTag, {"detect", "tag.png", "--camera", "nan,500,100,100", "--tag-size", "0.1"}, 2,
+       {"--camera nan,500,100,100: 'nan' is not a finite number"}},
+      {"detect_camera_negative_focal", kTag, {"detect", "tag.png", "--camera", "-500,500,100,100", "--tag-size", "0.1"}, 2,
+       {"--camera -500,500,100,100: focal lengths fx and fy must be > 0"}},
+      {"detect_camera_negative_centre", kTag, {"detect", "tag.png", "--camera", "500,500,-1,100", "--tag-size", "0.1"}, 2,
+       {"--camera 500,500,-1,100: principal point cx and cy must be >= 0"}},
+      {"detect_camera_three_numbers", kTag, {"detect", "tag.png", "--camera", "500,500,100", "--tag-size", "0.1"}, 2,
+       {"--camera 500,500,100: expected fx,fy,cx,cy, got 3 numbers"}},
+      {"detect_tag_size_zero", kTag, {"detect", "tag.png", "--camera", "500,500,100,100", "--tag-size", "0"}, 2,
+       {"--tag-size 0: the tag size must be > 0"}},
+      {"detect_tag_size_negative", kTag, {"detect", "tag.png", "--camera", "500,500,100,100", "--tag-size", "-0.2"}, 2,
+       {"--tag-size -0.2: the tag size must be > 0"}},
+      {"detect_distortion_nan", kTag,
+       {"detect", "tag.png", "--camera", "500,500,100,100", "--tag-size", "0.1", "--distortion", "0,nan,0,0"}, 2,
+       {"--distortion 0,nan,0,0: 'nan' is not a finite number"}},
+      {"detect_unknown_family", kTag, {"detect", "--family", "36h99", "tag.png"}, 1, {"unknown family '36h99'"}},
+      {"detect_family_file_non_hex", all({kTag, file("bad.fam", [] { return edited_16h5("0x2ea5", "0x2ez5"); })}),
+       {"detect", "--family", "bad.fam", "tag.png"}, 1, {"bad.fam:", "not a hex code: '0x2ez5'"}},
+      {"detect_max_hamming_99", kTag, {"detect", "--max-hamming", "99", "tag.png"}, 2, {"--max-hamming: 99 is outside 0..16"}},
+      {"detect_threads_0", kTag, {"detect", "--threads", "0", "tag.png"}, 2, {"--threads: 0 is outside 1..1024"}},
+      {"detect_format_xml", kTag, {"detect", "--format", "xml", "tag.png"}, 2, {"--format xml: use json or csv"}},
+      {"detect_unknown_option", kTag, {"detect", "--sigma", "-1", "tag.png"}, 2, {"unknown option '--sigma'"}},
+      {"detect_missing_option_value", kTag, {"detect", "tag.png", "--family"}, 2, {"--family needs a value"}},
+      // --- detect: outputs ---
+      {"detect_draw_under_a_regular_file", all({kTag, kRegularFile}), {"detect", "tag.png", "--draw", "file.txt/drawn.png"},
+       1, {"tag.png: cannot write file.txt/drawn.png"}},
+      {"detect_debug_dir_under_a_regular_file", all({kTag, kRegularFile}),
+       {"detect", "tag.png", "--debug-dir", "file.txt/dbg"}, 1, {"tag.png: cannot create directory file.txt/dbg"}},
+      {"detect_draw_disk_full", kTag, {"detect", "tag.png", "--draw", "drawn.png"}, 1,
+       {"tag.png: cannot write drawn.png", "File too large"}, {.fsize = 1024}},
+      {"detect_debug_dir_disk_full", kTag, {"detect", "tag.png", "--debug-dir", "dbg"}, 1,
+       {"tag.png: cannot write dbg/tag_", "File too large"}, {.fsize = 1024}},
+
+      // --- render ---
+      {"render_unknown_family", {}, {"render", "--family", "36h99", "--id", "0", "-o", "tag.png"}, 1,
+       {"unknown family '36h99'"}},
+      {"render_id_out_of_range", {}, {"render", "--family", "16h5", "--id", "30", "-o", "tag.png"}, 1,
+       {"id 30 is out of range for family 16h5 (0..29)"}},
+      {"render_px_per_cell_0", {}, {"render", "--family", "16h5", "--id", "0", "--px-per-cell", "0", "-o", "tag.png"}, 2,
+       {"--px-per-cell: 0 is outside 1..1000"}},
+      {"render_tag_size_mm_negative", {}, {"render", "--family", "16h5", "--id", "0", "--tag-size-mm", "-5", "-o", "tag.svg"},
+       2, {"--tag-size-mm: -5 is outside"}},
+      {"render_missing_option_value", {}, {"render", "--family", "16h5", "-o", "tag.png", "--id"}, 2, {"--id needs a value"}},
+      {"render_family_file_duplicate_code", file("dup.fam", [] { return edited_16h5("0x2ea5", "0x231b"); }),
+       {"render", "--family", "dup.fam", "--id", "0", "-o", "tag.png"}, 1, {"dup.fam: ", "duplicate code 0x231b"}},
+      {"render_out_under_a_regular_file", kRegularFile, {"render", "--family", "16h5", "--id", "0", "-o", "file.txt/tag.png"},
+       1, {"cannot write file.txt/tag.png"}},
+      {"render_disk_full", {}, {"render", "--family", "36h11", "--id", "0", "--px-per-cell", "50", "-o", "tag.png"}, 1,
+       {"cannot write tag.png", "File too large"}, {.fsize = 256}},
+
+      // --- family ---
+      {"family_show_missing_file", {}, {"family", "show", "missing.fam"}, 1, {"family file missing.fam: no such file"}},
+      {"family_show_non_hex_line", file("nonhex.fam", [] { return edited_16h5("0x2ea5", "0x2ez5"); }),
+       {"family", "show", "nonhex.fam"}, 1, {"nonhex.fam:", "not a hex code: '0x2ez5'"}},
+      {"family_show_wrong_count", file("count.fam", [] { return edited_16h5("count: 30", "count: 31"); }),
+       {"family", "show", "count.fam"}, 1, {"count.fam: header says count 31 but the file has 30"}},
+      {"family_show_duplicate_code", file("dup.fam", [] { return edited_16h5("0x2ea5", "0x231b"); }),
+       {"family", "show", "dup.fam"}, 1, {"dup.fam: ", "duplicate code 0x231b"}},
+      {"family_show_empty_file", file("empty.fam", text("")), {"family", "show", "empty.fam"}, 1,
+       {"empty.fam: missing header key 'name'"}},
+      {"family_check_codes_too_close", file("close.fam", [] { return edited_16h5("hamming: 5", "hamming: 7"); }),
+       {"family", "check", "close.fam"}, 1, {"close.fam: ", "closer than h=7"}},
+      {"family_check_unknown_header_key", file("key.fam", [] { return edited_16h5("count: 30", "colour: 30\ncount: 30"); }),
+       {"family", "check", "key.fam"}, 1, {"key.fam:", "unknown header key 'colour'"}},
+      {"family_generate_bits_99", {}, {"family", "generate", "--bits", "99", "--hamming", "5", "--out", "g.fam"}, 2,
+       {"--bits: 99 is outside 1..64"}},
+      {"family_generate_bits_not_square", {}, {"family", "generate", "--bits", "20", "--hamming", "5", "--out", "g.fam"}, 2,
+       {"20", "not the square"}},
+      {"family_generate_threads_0", {}, {"family", "generate", "--bits", "16", "--hamming", "5", "--threads", "0"}, 2,
+       {"--threads: 0 is outside 1..1024"}},
+      {"family_generate_out_under_a_regular_file", kRegularFile,
+       {"family", "generate", "--bits", "16", "--hamming", "5", "--out", "file.txt/g.fam"}, 2,
+       {"--out file.txt/g.fam: no such directory"}},
+      {"family_generate_disk_full", {}, {"family", "generate", "--bits", "16", "--hamming", "5", "--out", "g.fam"}, 1,
+       {"cannot write g.fam", "File too large"}, {.fsize = 256}},
+      {"family_generate_resume_without_checkpoint_file", {},
+       {"family", "generate", "--resume", "--checkpoint", "missing.ckpt"}, 1, {"missing.ckpt: cannot open"}},
+
+      // --- scene ---
+      {"scene_unknown_family", {}, {"scene", "--family", "36h99", "-o", "s.png"}, 1, {"unknown family '36h99'"}},
+      {"scene_width_too_small", {}, {"scene", "--width", "10", "-o", "s.png"}, 2, {"--width: 10 is outside 64..16384"}},
+      {"scene_count_negative", {}, {"scene", "--count", "-1", "-o", "s.png"}, 2, {"--count: -1 is outside 0..100"}},
+      {"scene_out_under_a_regular_file", kRegularFile, {"scene", "-o", "file.txt/s.png"}, 1, {"cannot write file.txt/s."}},
+      {"scene_disk_full", {}, {"scene", "-o", "s.png"}, 1, {"cannot write s.png", "File too large"}, {.fsize = 4096}},
+
+      // --- codes ---
+      {"codes_out_missing_folder", {}, {"codes", "--out", "nowhere"}, 2, {"--out nowhere: no such directory"}},
+      {"codes_out_is_a_regular_file", kRegularFile, {"codes", "--out", "file.txt"}, 2, {"--out file.txt: no such directory"}},
+      {"codes_threads_negative", folder("res"), {"codes", "--out", "res", "--threads", "-1"}, 2,
+       {"--threads: -1 is outside 0..1024"}},
+      {"codes_disk_full", folder("res"), {"codes", "--out", "res"}, 1, {"cannot write res/fig5_hamming.csv", "File too large"},
+       {.fsize = 4096}},
+
+      // --- raytrace ---
+      {"raytrace_povray_not_on_path", all({folder("emptybin"), folder("cache")}),
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache", "--out",
+        "out"},
+       1, {"povray not found: install the Debian package povray"}, {.path = "emptybin"}},
+      {"raytrace_povray_path_missing", folder("cache"),
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache",
+        "--povray", "./nopovray", "--out", "out"},
+       1, {"povray not found"}},
+      {"raytrace_disk_full", all({folder("cache"), folder("out"), cached_raytrace_frame}),
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache", "--out",
+        "out"},
+       1, {"cannot write out/fig9_angle", "File too large"}, {.fsize = 1024}},
+      {"raytrace_disk_full_new_out_folder", all({folder("cache"), cached_raytrace_frame}),
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache", "--out",
+        "new"},
+       1, {"cannot write new/fig9_angle", "File too large"}, {.fsize = 1024}},
+      {"raytrace_unknown_experiment", {}, {"raytrace", "sideways", "--out", "out"}, 2, {"sideways"}},
+      {"raytrace_angle_90", {}, {"raytrace", "angle", "--angles", "0,90", "--out", "out"}, 2, {"90"}},
+      {"raytrace_trials_0", {}, {"raytrace", "angle", "--trials", "0", "--out", "out"}, 2, {"trials"}},
+      {"raytrace_tag_size_negative", {}, {"raytrace", "distance", "--tag-size", "-1", "--out", "out"}, 2, {"tag size"}},
+      {"raytrace_unknown_detector", {}, {"raytrace", "angle", "--detectors", "tagbench-full,bogus", "--out", "out"}, 2,
+       {"bogus"}},
+      {"raytrace_processes_0", {}, {"raytrace", "angle", "--processes", "0", "--out", "out"}, 2,
+       {"--processes: 0 is outside 1..256"}},
+      {"raytrace_out_under_a_regular_file", all({kRegularFile, folder("cache")}),
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache", "--out",
+        "file.txt/out"},
+       2, {"--out file.txt/out: file.txt is not a directory"}},
+      {"raytrace_out_is_a_regular_file", kRegularFile, {"raytrace", "angle", "--out", "file.txt"}, 2,
+       {"--out file.txt: not a directory"}},
+
+      // --- corpus ---
+      {"corpus_list_missing_folder", {}, {"corpus", "list", "--from", "nowhere"}, 2, {"--from nowhere: no such directory"}},
+      {"corpus_list_from_a_regular_file", kRegularFile, {"corpus", "list", "--from", "file.txt"}, 2,
+       {"--from file.txt: no such directory"}},
+      {"corpus_candidates_missing_folder", {}, {"corpus", "candidates", "--corpus", "nowhere"}, 2,
+       {"--corpus nowhere: no such directory"}},
+      {"corpus_candidates_jobs_0", all({kTag, folder("c")}), {"corpus", "candidates", "--corpus", "c", "--jobs", "0"}, 2,
+       {"--jobs: 0 is outside 1..256"}},
+      {"corpus_score_missing_store", {}, {"corpus", "score", "--candidates", "missing.bin", "--family", "36h11"}, 1,
+       {"missing.bin: cannot open"}},
+      {"corpus_score_corrupt_store", file("bad.bin", [] { return random_bytes(500); }),
+       {"corpus", "score", "--candidates", "bad.bin", "--family", "36h11"}, 1, {"bad.bin: not a candidate store"}},
+      {"corpus_score_unknown_family", file("bad.bin", [] { return random_bytes(500); }),
+       {"corpus", "score", "--candidates", "bad.bin", "--family", "36h99"}, 1, {"unknown family '36h99'"}},
+      {"corpus_score_max_bits_99", {}, {"corpus", "score", "--candidates", "x.bin", "--family", "36h11", "--max-bits", "99"},
+       2, {"--max-bits: 99 is outside 0..64"}},
+      {"corpus_unknown_subcommand", {}, {"corpus", "frobnicate"}, 2, {"unknown subcommand 'frobnicate'"}},
+
+      // --- the program ---
+      {"unknown_command", {}, {"frobnicate"}, 2, {"unknown command 'frobnicate'"}},
+  };
+  return table;
+}
+
+class BadInput : public ::testing::TestWithParam<Case> {};
+
+TEST_P(BadInput, RefusedCleanly) {
+  const Case& c = GetParam();
+  const Scratch scratch;
+  if (c.setup) c.setup(scratch.dir);
+  const std::vector<std::string> before = listing(scratch.dir);
+  std::string cmd = "tagbench";
+  for (const auto& a : c.args) cmd += " " + a;
+  SCOPED_TRACE(cmd);
+
+  const ChildRun r = run_child(scratch.dir, c.args, c.limits);
+  ASSERT_FALSE(r.timed_out) << "no exit within 5 minutes";
+  ASSERT_TRUE(WIFEXITED(r.status)) << "killed by signal " << WTERMSIG(r.status)
+                                   << (WCOREDUMP(r.status) ? " (core dumped)" : "") << "\nstderr: " << r.err;
+  const int code = WEXITSTATUS(r.status);
+  EXPECT_EQ(code, c.code) << "stderr: " << r.err;
+  EXPECT_LT(code, 128);
+  if (c.code != 0) {
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+    EXPECT_TRUE(r.err.ends_with("\n")) << r.err;
+    EXPECT_TRUE(r.err.starts_with("tagbench")) << r.err;
+    for (const auto& e : c.expect) EXPECT_NE(r.err.find(e), std::string::npos) << "'" << e << "' not in: " << r.err;
+  } else {
+    EXPECT_EQ(r.err, "");
+    for (const auto& e : c.expect) EXPECT_NE(r.out.find(e), std::string::npos) << "'" << e << "' not in: " << r.out;
+  }
+  // No output, no partial output, no temporary and no core file.
+  EXPECT_EQ(listing(scratch.dir), before);
+}
+
+INSTANTIATE_TEST_SUITE_P(Matrix, BadInput, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<Case>& i) { return i.param.name; });
+
+// The table is what issue 6 asks for: at least 30 cases, each name unique (they name the tests).
+TEST(BadInputTable, IsLargeAndNamesAreUnique) {
+  std::vector<std::string> names;
+  for (const auto& c : cases()) names.push_back(c.name);
+  std::sort(names.begin(), names.end());
+  EXPECT_GE(names.size(), 30u);
+  EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end());
+}
+
+}  // namespace
