@@ -16,6 +16,7 @@ int cmd_scene(const Words& args);
 int cmd_detect(const Words& args);
 int cmd_raytrace(const Words& args);
 int cmd_corpus(const Words& args);
+int cmd_falsepos(const Words& args);
 
 // True (and the help printed to stdout) when args ask for help.
 bool wants_help(const Words& args, const char* help_text);

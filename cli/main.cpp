@@ -22,7 +22,10 @@ Commands:
   scene     a synthetic image with tags at known corners (PNG + JSON ground truth)
   raytrace  the localization experiments on POV-Ray frames: angle (Fig. 9), distance (Fig. 10),
             conditions (noise, blur, lighting, occlusion, bending, lens distortion), five detectors
-  corpus    the natural-image corpus: build it from Debian packages, list a folder of images
+  corpus    the natural-image corpus: build it from Debian packages, list a folder of images,
+            extract candidate quads and their payloads (shardable), score families on them
+  falsepos  the false-positive experiments on the corpus: complexity (Fig. 6), codes (Fig. 7),
+            whole detectors (ours, libapriltag, OpenCV aruco)
 
 Run 'tagbench <command> --help' for a command's options.
 Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).
@@ -42,6 +45,7 @@ constexpr Command kCommands[] = {
     {"scene", tagbench::cli::cmd_scene},
     {"raytrace", tagbench::cli::cmd_raytrace},
     {"corpus", tagbench::cli::cmd_corpus},
+    {"falsepos", tagbench::cli::cmd_falsepos},
 };
 
 }  // namespace

@@ -167,13 +167,16 @@ cv::aruco::PREDEFINED_DICTIONARY_NAME aruco_dictionary(const std::string& name) 
 
 class Aruco final : public Comparator {
  public:
-  Aruco(std::string name, const ComparatorSetup& s)
+  // apriltag_refinement: CORNER_REFINE_APRILTAG (its corners in the [i, i+1) convention); otherwise
+  // OpenCV's default CORNER_REFINE_NONE (corners at pixel centres already).
+  Aruco(std::string name, const ComparatorSetup& s, bool apriltag_refinement)
       : Comparator(std::move(name)),
+        shift_(apriltag_refinement ? 0.5f : 0.0f),
         setup_(s),
         family_name_(short_family(s.family)),
         dict_(cv::aruco::getPredefinedDictionary(aruco_dictionary(family_name_))),
         params_(cv::aruco::DetectorParameters::create()) {
-    params_->cornerRefinementMethod = cv::aruco::CORNER_REFINE_APRILTAG;
+    if (apriltag_refinement) params_->cornerRefinementMethod = cv::aruco::CORNER_REFINE_APRILTAG;
     if (wants_pose(s)) {
       camera_ = (cv::Mat_<double>(3, 3) << s.camera->fx, 0, s.camera->cx, 0, s.camera->fy, s.camera->cy, 0, 0, 1);
       if (s.distortion) {
@@ -197,9 +200,9 @@ class Aruco final : public Comparator {
       Found f;
       f.family = family_name_;
       f.id = ids[i];
-      // Its corner 0 is its marker's top-left, which is the official tag's bottom-right; [i, i+1) pixels.
+      // Its corner 0 is its marker's top-left, which is the official tag's bottom-right.
       std::vector<cv::Point2f> centred(4);
-      for (std::size_t k = 0; k < 4; ++k) centred[k] = corners[i][k] - cv::Point2f(0.5f, 0.5f);
+      for (std::size_t k = 0; k < 4; ++k) centred[k] = corners[i][k] - cv::Point2f(shift_, shift_);
       for (std::size_t k = 0; k < 4; ++k) {
         const cv::Point2f& c = centred[(k + 2) % 4];
         f.corners[k] = Eigen::Vector2d(c.x, c.y);
@@ -225,6 +228,7 @@ class Aruco final : public Comparator {
     return out;
   }
 
+  float shift_;  // to pixel centres at integers
   ComparatorSetup setup_;
   std::string family_name_;
   cv::Ptr<cv::aruco::Dictionary> dict_;
@@ -241,15 +245,25 @@ const std::vector<std::string>& comparator_names() {
   return names;
 }
 
+const std::vector<std::string>& known_comparator_names() {
+  static const std::vector<std::string> names = [] {
+    auto n = comparator_names();
+    n.push_back("aruco-default");
+    return n;
+  }();
+  return names;
+}
+
 std::unique_ptr<Comparator> make_comparator(const std::string& name, const ComparatorSetup& setup) {
   check_setup(setup);
   if (name == "tagbench-full") return std::make_unique<Ours>(name, setup, false);
   if (name == "tagbench-half") return std::make_unique<Ours>(name, setup, true);
   if (name == "libapriltag-d1") return std::make_unique<LibAprilTag>(name, setup, 1.0f);
   if (name == "libapriltag-d2") return std::make_unique<LibAprilTag>(name, setup, 2.0f);
-  if (name == "aruco") return std::make_unique<Aruco>(name, setup);
+  if (name == "aruco") return std::make_unique<Aruco>(name, setup, true);
+  if (name == "aruco-default") return std::make_unique<Aruco>(name, setup, false);
   std::string known;
-  for (const auto& n : comparator_names()) known += (known.empty() ? "" : ", ") + n;
+  for (const auto& n : known_comparator_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown detector '" + name + "' (known: " + known + ")");
 }
 

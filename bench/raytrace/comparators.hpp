@@ -13,6 +13,9 @@
 //   aruco            OpenCV 4.6 aruco, DICT_APRILTAG_<family>, CORNER_REFINE_APRILTAG; pose as
 //                    estimatePoseSingleMarkers computes it (its marker corners and frame), by
 //                    cv::solvePnP with SOLVEPNP_IPPE_SQUARE
+//   aruco-default    the same with all of aruco's defaults (CORNER_REFINE_NONE, which also changes
+//                    how candidates are found): the false-positive experiments' "as users run it".
+//                    Not in the localization sweeps (comparator_names), which compare refined corners.
 //
 // The conversions (each proved on ray-traced frames by tests/test_comparators.cpp):
 //   libapriltag: corners in "pixel i covers [i, i+1)": minus 0.5. Its p[0..3] wrap the tag
@@ -20,7 +23,8 @@
 //     ours are p[3], p[2], p[1], p[0]. estimate_tag_pose gets the principal point in its own pixel
 //     convention (cx + 0.5, cy + 0.5); its tag frame is ours (x right, y down, z into the tag), so R, t
 //     are taken as they are.
-//   aruco: corners with CORNER_REFINE_APRILTAG in the [i, i+1) convention: minus 0.5. Its AprilTag
+//   aruco: corners with CORNER_REFINE_APRILTAG in the [i, i+1) convention: minus 0.5 (with the
+//     default CORNER_REFINE_NONE they are at pixel centres already: no shift). Its AprilTag
 //     dictionaries hold the official tags turned 180 degrees, so its corner 0 (top-left of its marker)
 //     is our printed bottom-right: ours are c[2], c[3], c[0], c[1]. Its marker frame has x toward its
 //     marker's right, y toward its top, z out of the face; with the 180-degree turn, X_aruco =
@@ -79,8 +83,11 @@ class Comparator {
   std::string name_;
 };
 
-// "tagbench-full", "tagbench-half", "libapriltag-d1", "libapriltag-d2", "aruco".
+// The localization sweeps' detectors: "tagbench-full", "tagbench-half", "libapriltag-d1",
+// "libapriltag-d2", "aruco".
 const std::vector<std::string>& comparator_names();
+// Every name make_comparator knows: the above and "aruco-default".
+const std::vector<std::string>& known_comparator_names();
 
 // Throws std::invalid_argument for an unknown name, a family the detector does not support, or a
 // camera without a valid tag size.
