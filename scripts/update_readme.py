@@ -186,9 +186,108 @@ def raytrace_conditions(d):
     return table(["Condition", "Strengths"] + [RT_NAMES.get(x, x) for x in dets], body)
 
 
+def _g(x):
+    return f"{float(x):.2g}" if float(x) else "0"
+
+
+def _rate_ci(r):
+    return f'{_g(r["rate"])} ({r["accepted"]}; {_g(r["ci95_lo"])}-{_g(r["ci95_hi"])})'
+
+
+def fig6_table(d):
+    """Complexity -> rate at each k (all images), with the random-payload rate."""
+    by = {}
+    ks = []
+    for r in rows(os.path.join(d, "fig6_complexity.csv")):
+        if r["subset"] != "all":
+            continue
+        by.setdefault((int(r["min_complexity"]), r["codes"]), {})[int(r["bits_corrected"])] = r
+        ks = sorted(set(ks) | {int(r["bits_corrected"])})
+    body = []
+    for (c, codes), per_k in sorted(by.items()):
+        body.append([c, codes] + [f'{_rate_ci(per_k[k])}; theory {_g(per_k[k]["theory_rate"])}' for k in ks])
+    quads = next(iter(next(iter(by.values())).values()))["quads"]
+    return (f"Rate per candidate quad ({quads} 5x5 candidate quads), in brackets the accepted count and the 95 % "
+            "Wilson interval; theory = 4 N V(25, k) / 2^25.\n\n" +
+            table(["Min. complexity", "Codes"] + [f"k = {k}" for k in ks], body))
+
+
+def fig7_table(d):
+    by = {}
+    ks = []
+    for r in rows(os.path.join(d, "fig7_codes.csv")):
+        if r["subset"] != "all":
+            continue
+        by.setdefault((r["scheme"], r["codes"]), {})[int(r["bits_corrected"])] = r
+        ks = sorted(set(ks) | {int(r["bits_corrected"])})
+    body = []
+    for (scheme, codes), per_k in by.items():
+        body.append([scheme, codes] + [f'{_rate_ci(per_k[k])}; theory {_g(per_k[k]["theory_rate"])}'
+                                       + ("" if per_k[k]["theory_exact"] == "1" else "*") for k in ks])
+    quads = next(iter(next(iter(by.values())).values()))["quads"]
+    return (f"Rate per candidate quad ({quads} 6x6 candidate quads), in brackets the accepted count and the 95 % "
+            "Wilson interval; theory = 4 N V(36, k) / 2^36, exact while 2k < h, an upper bound where marked *.\n\n" +
+            table(["Scheme", "Codes"] + [f"k = {k}" for k in ks], body))
+
+
+def fp_detectors_table(d):
+    body = []
+    rs = rows(os.path.join(d, "fp_detectors.csv"))
+    for r in rs:
+        if r["subset"] != "all":
+            continue
+        sub = {x["subset"]: x for x in rs if x["detector"] == r["detector"] and x["family"] == r["family"]}
+        cell = lambda x: (f'{_g(x["per_megapixel"])} ({x["detections"]}; {_g(x["per_megapixel_ci95_lo"])}-'
+                          f'{_g(x["per_megapixel_ci95_hi"])})') if x else "-"
+        body.append([r["detector"], r["family"], cell(sub.get("still")), cell(sub.get("video-frame")),
+                     f'{_g(r["per_image"])} ({_g(r["per_image_ci95_lo"])}-{_g(r["per_image_ci95_hi"])})',
+                     f'{100 * float(r["image_share"]):.2g} % ({r["images_with_detections"]} of {r["images"]})',
+                     f'{float(r["ms_per_image"]):.1f}', f'{float(r["megapixels_per_second"]):.3g}'])
+    return table(["Detector", "Family", "Stills: per Mpx (count; 95 %)", "Video frames: per Mpx (count; 95 %)",
+                  "All: per image (95 %)", "Images with one", "ms per image", "Mpx/s (1 thread)"], body)
+
+
+def fp_detectors_groups(d):
+    """Per group: false detections per megapixel of each detector (36h11 and 16h5 columns)."""
+    rs = rows(os.path.join(d, "fp_detectors.csv"))
+    cols = []
+    for r in rs:
+        if r["subset"] == "all" and (r["detector"], r["family"]) not in cols:
+            cols.append((r["detector"], r["family"]))
+    groups = []
+    for r in rs:
+        if r["subset"].startswith("group:") and r["subset"] not in groups:
+            groups.append(r["subset"])
+    idx = {(r["detector"], r["family"], r["subset"]): r for r in rs}
+    body = []
+    for g in groups:
+        first = idx[(cols[0][0], cols[0][1], g)]
+        body.append([g[6:], first["images"], f'{float(first["megapixels"]):.0f}'] +
+                    [idx[(dt, fm, g)]["detections"] if (dt, fm, g) in idx else "-" for dt, fm in cols])
+    return table(["Group", "Images", "Mpx"] + [f"{dt} {fm}" for dt, fm in cols], body)
+
+
+def corpus_groups(d):
+    body = []
+    for r in rows(os.path.join(d, "corpus_groups.csv")):
+        body.append([r["group"], r["kind"], r["images"], f'{float(r["megapixels"]):.1f}', r["candidate_quads"],
+                     r["packages"], r["licences"]])
+    return table(["Group", "Kind", "Images", "Mpx", "Candidate quads", "Debian package", "Licence"], body)
+
+
+def corpus_extraction(d):
+    body = []
+    for r in rows(os.path.join(d, "corpus_extraction.csv")):
+        body.append([r["stage"], r["images"], r["megapixels"], r["seconds"], r["images_per_second"],
+                     r["megapixels_per_second"], r["jobs"], r["measured"]])
+    return table(["Stage", "Images", "Mpx", "Seconds", "Images/s", "Mpx/s", "Threads", "Measured"], body)
+
+
 BLOCKS = {"pending": pending, "speed": speed, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
-          "raytrace_conditions": raytrace_conditions}
+          "raytrace_conditions": raytrace_conditions, "fig6_table": fig6_table, "fig7_table": fig7_table,
+          "fp_detectors_table": fp_detectors_table, "fp_detectors_groups": fp_detectors_groups,
+          "corpus_groups": corpus_groups, "corpus_extraction": corpus_extraction}
 
 
 def main():

@@ -200,4 +200,8 @@ TEST(Lexicode, Shipped36h9BeginsAsPublishedAndAsTheGeneratorDoes) {
   g.run(2, 12, nullptr);
   ASSERT_EQ(g.state().codes.size(), 12u);
   EXPECT_TRUE(std::equal(g.state().codes.begin(), g.state().codes.end(), f.codes().begin()));
+  // Where the published count falls in our run (README): the 5329th code is candidate 38822029305
+  // (56.5 % of 2^36), the 5330th candidate 40518140693 (59.0 %).
+  EXPECT_EQ(g.candidate(38822029305ULL), f.codes()[5328]);
+  EXPECT_EQ(g.candidate(40518140693ULL), f.codes()[5329]);
 }

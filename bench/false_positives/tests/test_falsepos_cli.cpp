@@ -1,0 +1,181 @@
+// The false-positive experiments end to end on a small corpus made here, as `make bench` runs them:
+// corpus candidates -> falsepos complexity / codes / detectors -> plots. The corpus: two stills
+// and two video frames (a manifest as `corpus build` writes it), one of each holding 36h11 tags, so
+// the counts that must come out are known: every tag is a "false" positive of every detector, and
+// its quad's 6x6 payload is an exact 36h11 code in Fig. 7's store.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "run_tagbench.hpp"
+#include "scenes.hpp"
+
+namespace fs = std::filesystem;
+using tagbench::testing::run_tagbench;
+using tagbench::testing::slurp;
+
+namespace {
+
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    std::string t = (fs::temp_directory_path() / "tagbench_falsepos_XXXXXX").string();
+    dir = mkdtemp(t.data());
+  }
+  ~Scratch() { fs::remove_all(dir); }
+};
+
+std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
+  std::istringstream in(slurp(p));
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> out;
+  auto split = [](const std::string& s) {
+    std::vector<std::string> f;
+    std::string cur;
+    bool q = false;
+    for (char c : s) {
+      if (c == '"') q = !q;
+      else if (c == ',' && !q) {
+        f.push_back(cur);
+        cur.clear();
+      } else cur += c;
+    }
+    f.push_back(cur);
+    return f;
+  };
+  while (std::getline(in, line)) {
+    if (header.empty()) {
+      header = split(line);
+      continue;
+    }
+    const auto f = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size() && i < f.size(); ++i) row[header[i]] = f[i];
+    out.push_back(std::move(row));
+  }
+  return out;
+}
+
+const char* kSha = "0000000000000000000000000000000000000000000000000000000000000000";
+
+// 3 + 2 tags of 36h11 in a still and a video frame; a noise still and a gradient video frame.
+void make_corpus(const fs::path& dir) {
+  fs::create_directories(dir / "stills" / "g1");
+  fs::create_directories(dir / "video" / "clip");
+  cv::imwrite((dir / "stills/g1/tags.png").string(), tagbench::make_scene(640, 480, "36h11", 3, 21).image);
+  cv::Mat noise(300, 400, CV_8UC1);
+  cv::randu(noise, 0, 256);
+  cv::imwrite((dir / "stills/g1/noise.png").string(), noise);
+  cv::imwrite((dir / "video/clip/c_f0.png").string(), tagbench::make_scene(480, 360, "36h11", 2, 22).image);
+  cv::Mat grad(240, 320, CV_8UC1);
+  for (int y = 0; y < grad.rows; ++y)
+    for (int x = 0; x < grad.cols; ++x) grad.at<uchar>(y, x) = static_cast<uchar>((x + y) / 3);
+  cv::imwrite((dir / "video/clip/c_f5.png").string(), grad);
+  std::ofstream m(dir / "manifest.tsv");
+  m << "file\tgroup\tpackage\tversion\tpath\tlicence\tsha256\tkind\tframe\n";
+  m << "stills/g1/tags.png\tg1\tp\t1\t/a\tx\t" << kSha << "\tstill\t\n";
+  m << "stills/g1/noise.png\tg1\tp\t1\t/b\tx\t" << kSha << "\tstill\t\n";
+  m << "video/clip/c_f0.png\tclip\tp\t1\t/c\tx\t" << kSha << "\tvideo-frame\t0\n";
+  m << "video/clip/c_f5.png\tclip\tp\t1\t/c\tx\t" << kSha << "\tvideo-frame\t5\n";
+}
+
+}  // namespace
+
+TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
+  Scratch s;
+  const fs::path corpus = s.dir / "corpus", out = s.dir / "results";
+  make_corpus(corpus);
+  fs::create_directories(out);
+  const std::string store = (corpus / "corpus_candidates.bin").string();
+  auto r = run_tagbench("corpus candidates --corpus " + corpus.string() + " --jobs 2", s.dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+
+  // Fig. 7: the five tags' quads carry exact 36h11 codes, so 36h11 accepts at least five at k = 0
+  // (a tag's quad can be found more than once), in the still and video subsets 3 and 2 at least.
+  r = run_tagbench("falsepos codes --candidates " + store + " --out " + out.string() + " --max-bits 3", s.dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto fig7 = read_csv(out / "fig7_codes.csv");
+  ASSERT_EQ(fig7.size(), 6u * 3u * 4u);  // 6 schemes x (all, still, video-frame) x k = 0..3
+  for (const auto& row : fig7) {
+    if (row.at("family") != "36h11" || row.at("bits_corrected") != "0") continue;
+    const int accepted = std::stoi(row.at("accepted"));
+    const std::string& sub = row.at("subset");
+    EXPECT_GE(accepted, sub == "all" ? 5 : sub == "still" ? 3 : 2) << sub;
+    EXPECT_GT(std::stod(row.at("ci95_hi")), std::stod(row.at("rate")));
+  }
+  EXPECT_NE(slurp(out / "fig7_codes.json").find("\"payload_records\""), std::string::npos);
+
+  // Fig. 6 on three thresholds: families generated here, seeds 250900 + c.
+  r = run_tagbench("falsepos complexity --candidates " + store + " --out " + out.string() + " --complexity 7-9", s.dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto fig6 = read_csv(out / "fig6_complexity.csv");
+  ASSERT_EQ(fig6.size(), 3u * 3u * 5u);
+  EXPECT_EQ(fig6.front().at("scheme"), "25h9, complexity >= 7");
+  EXPECT_EQ(fig6.back().at("min_complexity"), "9");
+  const std::string js6 = slurp(out / "fig6_complexity.json");
+  EXPECT_NE(js6.find("\"seed\": 250908"), std::string::npos);
+
+  // Whole detectors: every one of ours and aruco's finds the five tags, nothing else.
+  r = run_tagbench("falsepos detectors --corpus " + corpus.string() + " --out " + out.string() +
+                       " --detectors tagbench-full,aruco-default --families 36h11 --jobs 2",
+                   s.dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto det = read_csv(out / "fp_detectors.csv");
+  int checked = 0;
+  for (const auto& row : det) {
+    const std::string& sub = row.at("subset");
+    const std::string want = sub == "all" ? "5" : sub == "still" || sub == "group:g1" ? "3" : "2";
+    EXPECT_EQ(row.at("detections"), want) << row.at("detector") << " " << sub;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2 * 5);  // 2 detectors x (all, still, video-frame, group:clip, group:g1)
+  EXPECT_EQ(read_csv(out / "fp_detections.csv").size(), 10u);
+
+  // The plots, as make bench draws them.
+  const std::string plot = "/usr/bin/python3 " + std::string(TAGBENCH_SOURCE_DIR) + "/scripts/plot_falsepos.py " +
+                           out.string() + " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(plot.c_str()), 0);
+  for (const char* png : {"fig6_complexity.png", "fig7_codes.png", "fp_detectors.png"})
+    EXPECT_GT(fs::file_size(out / png), 10000u) << png;
+}
+
+TEST(FalseposCli, RefusesBadInputInOneLineWithoutOutput) {
+  Scratch s;
+  const fs::path out = s.dir / "results";
+  fs::create_directories(out);
+  fs::create_directories(s.dir / "empty");
+  std::ofstream(s.dir / "junk.bin") << "not a store";
+  struct Case {
+    std::string args, message;
+    int code;
+  };
+  const std::vector<Case> cases{
+      {"falsepos codes --out " + out.string(), "--candidates FILE is required", 2},
+      {"falsepos codes --candidates " + (s.dir / "none.bin").string() + " --out " + out.string(), "none.bin: no such file", 1},
+      {"falsepos codes --candidates " + (s.dir / "junk.bin").string() + " --out " + out.string(), "junk.bin", 1},
+      {"falsepos complexity --candidates x --out " + (s.dir / "nowhere").string(), "nowhere: no such directory", 2},
+      {"falsepos complexity --candidates x --out " + out.string() + " --complexity 9-3", "empty range", 2},
+      {"falsepos detectors --corpus " + (s.dir / "empty").string() + " --out " + out.string(), "no images", 1},
+      {"falsepos detectors --corpus " + (s.dir / "empty").string() + " --out " + out.string() + " --detectors nonesuch",
+       "unknown detector 'nonesuch'", 2},
+      {"falsepos detectors --corpus " + (s.dir / "empty").string() + " --out " + out.string() +
+           " --detectors aruco-default --families 36h15",
+       "no AprilTag dictionary for '36h15'", 2},
+      {"falsepos frobnicate", "unknown subcommand 'frobnicate'", 2},
+  };
+  for (const auto& c : cases) {
+    const auto r = run_tagbench(c.args, s.dir);
+    EXPECT_EQ(r.code, c.code) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << "\n" << r.err;
+    EXPECT_TRUE(fs::is_empty(out)) << c.args;
+  }
+}
