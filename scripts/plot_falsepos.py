@@ -44,12 +44,17 @@ def curves(rows, subset="all"):
     return out
 
 
-def draw_rate(ax, ks, rate, lo, hi, floor, **kw):
-    """A rate curve with its interval; zero rates sit on `floor` with an upward bar."""
-    ys = [max(r, floor) for r in rate]
-    err_lo = [max(y - max(l, floor), 0) for y, l in zip(ys, lo)]
-    err_hi = [max(h - y, 0) for y, h in zip(ys, hi)]
-    return ax.errorbar(ks, ys, yerr=[err_lo, err_hi], capsize=2, **kw)
+def draw_rate(ax, ks, rate, lo, hi, floor, color, label, **kw):
+    """A rate curve with its interval. Zero rates (nothing accepted) cannot sit on a log axis: they
+    are drawn as open down-triangles on `floor`, with a bar up to the interval's upper bound."""
+    nz = [i for i, r in enumerate(rate) if r > 0]
+    ax.errorbar([ks[i] for i in nz], [rate[i] for i in nz],
+                yerr=[[rate[i] - lo[i] for i in nz], [hi[i] - rate[i] for i in nz]],
+                capsize=2, color=color, label=label, **kw)
+    z = [i for i, r in enumerate(rate) if r <= 0]
+    if z:
+        ax.errorbar([ks[i] for i in z], [floor] * len(z), yerr=[[0] * len(z), [hi[i] - floor for i in z]],
+                    fmt="v", mfc="none", color=color, capsize=2, ms=5)
 
 
 def fig6(results):
@@ -65,8 +70,8 @@ def fig6(results):
     theory_lo, theory_hi, ks_all = None, None, None
     for i, (scheme, (ks, rate, lo, hi, th, codes, _)) in enumerate(cs.items()):
         c = scheme.split(">=")[-1].strip()
-        draw_rate(ax, ks, rate, lo, hi, floor, color=cmap(i / max(1, n - 1)), marker="o", ms=3, lw=1.3,
-                  label=f"c = {c} ({codes} codes)")
+        draw_rate(ax, ks, rate, lo, hi, floor, cmap(i / max(1, n - 1)), f"c = {c} ({codes} codes)", marker="o",
+                  ms=3, lw=1.3)
         theory_lo = th if theory_lo is None else [min(a, b) for a, b in zip(theory_lo, th)]
         theory_hi = th if theory_hi is None else [max(a, b) for a, b in zip(theory_hi, th)]
         ks_all = ks
@@ -81,6 +86,7 @@ def fig6(results):
     ax.set_title(f"Fig. 6 reproduced: 25h9 by minimum complexity\n{quads:,} candidate quads from the Debian "
                  "photo corpus; 95 % Wilson intervals", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
+    ax.plot([], [], "kv", mfc="none", label="none accepted (bar: 95 % upper bound)")
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
     save(fig, os.path.join(results, "fig6_complexity.png"))
@@ -96,10 +102,10 @@ def fig7(results):
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     for i, (scheme, (ks, rate, lo, hi, th, codes, _)) in enumerate(cs.items()):
         color = f"C{i}"
-        draw_rate(ax, ks, rate, lo, hi, floor, color=color, marker="o", ms=3, lw=1.4,
-                  label=f"{scheme} ({codes} codes)")
+        draw_rate(ax, ks, rate, lo, hi, floor, color, f"{scheme} ({codes} codes)", marker="o", ms=3, lw=1.4)
         ax.plot(ks, th, color=color, ls=":", lw=1)
     ax.plot([], [], "k:", lw=1, label="dotted: random payloads (4 N V / 2^36)")
+    ax.plot([], [], "kv", mfc="none", label="none accepted (bar: 95 % upper bound)")
     ax.set_yscale("log")
     ax.set_ylim(floor / 2, 1.5)
     ax.set_xlabel("bits corrected (maximum Hamming distance accepted)")
@@ -127,7 +133,7 @@ def detectors(results):
     for ax, (subset, title) in zip(axes, subsets):
         images = mp = 0
         for j, d in enumerate(dets):
-            xs, ys, lo, hi = [], [], [], []
+            xs, ys, lo, hi, counts = [], [], [], [], []
             for i, fam in enumerate(fams):
                 for r in rows:
                     if r["detector"] == d and r["family"] == fam and r["subset"] == subset:
@@ -136,9 +142,13 @@ def detectors(results):
                         ys.append(max(y, floor))
                         lo.append(max(ys[-1] - max(float(r["per_megapixel_ci95_lo"]), floor), 0))
                         hi.append(max(float(r["per_megapixel_ci95_hi"]) - ys[-1], 0))
+                        counts.append(r["detections"])
                         images, mp = int(r["images"]), float(r["megapixels"])
             ax.bar(xs, [y - floor / 2 for y in ys], width * 0.9, bottom=floor / 2, color=f"C{j}", label=d,
                    yerr=[lo, hi], capsize=2)
+            for x, y, c in zip(xs, ys, counts):  # the count under each bar's top: 0 bars are stubs
+                ax.annotate(c, (x, y), xytext=(0, -2), textcoords="offset points", ha="center", va="top",
+                            fontsize=7, color="white" if int(c) else "black")
         ax.set_yscale("log")
         ax.set_xticks(range(len(fams)))
         ax.set_xticklabels(fams)
