@@ -5,6 +5,8 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "build.hpp"
 #include "candidates.hpp"
@@ -12,6 +14,7 @@
 #include "cli/commands.hpp"
 #include "scan.hpp"
 #include "codes/families.hpp"
+#include "util/atomic_file.hpp"
 #include "util/progress.hpp"
 #include "util/sysinfo.hpp"
 
@@ -33,7 +36,8 @@ at most 2048 px on the long side, written as PNG:
   DIR/manifest.tsv  file, group, package, version, path, licence, sha256 of the extracted original,
                     kind (still | video-frame), frame index
 A rebuild with everything in place does nothing; an extracted file whose sha256 differs from the
-manifest's is an error naming it and its package.
+manifest's is an error naming it and its package. An interrupted build (Ctrl-C, kill -9) is resumed
+by running it again: packages already in the manifest are kept, the rest are done afresh.
   --out DIR         the corpus folder (default corpus)
   --lists DIR       folder with photo_sources.tsv / video_sources.tsv (default: the shipped lists)
   --cache DIR       where downloaded .deb files are kept (default DIR/.debs)
@@ -49,7 +53,8 @@ candidates: the detector's stages up to the quad search (default detector settin
 of DIR (DIR/manifest.tsv, or every image under DIR when there is no manifest, but for the stores
 named corpus_candidates* in DIR itself), and for every candidate quad the 4x4, 5x5 and 6x6 payload
 read with the detector's varying threshold. No pre-filter: every quad whose payload can be read is
-kept (the paper's false-positive count).
+kept (the paper's false-positive count). A folder without images is an error (nothing is written).
+Files that do not decode are rows with status unreadable and the reason.
   --out FILE        the store (default DIR/corpus_candidates.bin); the image index goes beside it
                     with extension .tsv (id, file, group, kind, width, height, quads, status, reason)
   --jobs N          images processed at once (default: all cores); the store does not depend on it
@@ -58,7 +63,8 @@ kept (the paper's false-positive count).
                     store (default DIR/corpus_candidates-shard-i-of-N.bin) records the shard, M and
                     hashes of the image list in its settings; join the N stores with `corpus merge`.
                     Every shard lists the whole corpus itself, so all must see the same folder
-                    (a folder without manifest.tsv is scanned, every image decoded, in every shard).
+                    (a folder without manifest.tsv is listed by file extension and signature in
+                    every shard, nothing decoded: each image is decoded once, by its shard).
 
 merge: joins the shard stores (any order; their .tsv indexes beside them) into the store of the
 whole corpus, byte for byte what `corpus candidates` without --shard writes (.bin and .tsv). It
@@ -76,6 +82,7 @@ as allocated: the default counts every core of the node), then the merge (in any
 score: for each family, the stored quads of its payload size whose bits decode (any rotation)
 within k bits, for k = 0..K; a table (family, bits_corrected, quads, accepted, rate) on stdout.
 For k > (h-1)/2 a quad is accepted when its nearest code is within k (TagFamily::decode).
+A family whose payload size the store has no quad of gets rows of 0 and a note on stderr.
   --candidates FILE the store written by `corpus candidates`
   --family F        built-in name or family file; repeatable or comma-separated
   --max-bits K      the largest number of bits corrected (default 4)
@@ -153,6 +160,11 @@ int corpus_candidates(const Words& w) {
   const std::filesystem::path out = a.get_or("out", (std::filesystem::path(*dir) / default_name).string());
   const int jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
   auto images = corpus::corpus_images(*dir);
+  if (images.empty()) {
+    const bool manifest = std::filesystem::exists(std::filesystem::path(*dir) / "manifest.tsv");
+    throw std::runtime_error(*dir + ": no images (" +
+                             (manifest ? std::string("its manifest.tsv lists none") : "no image file under it") + ")");
+  }
   std::string shard_note;
   if (shard) {
     const auto [first, last] = corpus::shard_range(images.size(), *shard);
@@ -178,6 +190,8 @@ int corpus_candidates(const Words& w) {
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+  // A run killed while writing left its temporaries; this one's store replaces that run's.
+  remove_stale_temporaries(out.has_parent_path() ? out.parent_path() : std::filesystem::path("."));
   corpus::write_candidates(out, store);
   std::size_t unreadable = 0;
   double mpix = 0;
@@ -210,6 +224,7 @@ int corpus_merge(const Words& w) {
   const auto store = corpus::merge_candidates(std::move(shards), a.positionals());
   const std::filesystem::path path(*out);
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  remove_stale_temporaries(path.has_parent_path() ? path.parent_path() : std::filesystem::path("."));
   corpus::write_candidates(path, store);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::fprintf(stderr,
@@ -236,9 +251,13 @@ int corpus_score(const Words& w) {
   const auto t0 = std::chrono::steady_clock::now();
   std::printf("family\tbits_corrected\tquads\taccepted\trate\n");
   bool nearest = false;
+  std::vector<std::string> without_quads;  // families the store has no quad of their payload size for
   for (const auto& f : families) {
     const int k = std::min(max_k, f.bits());
     const auto s = corpus::score_family(store.records, f, k, jobs);
+    if (s.quads == 0)
+      without_quads.push_back(f.name() + " (" + std::to_string(f.payload_width()) + "x" +
+                              std::to_string(f.payload_width()) + ")");
     for (int i = 0; i <= k; ++i) {
       const auto acc = s.accepted[static_cast<std::size_t>(i)];
       std::printf("%s\t%d\t%llu\t%llu\t%.6g\n", f.name().c_str(), i, static_cast<unsigned long long>(s.quads),
@@ -251,6 +270,10 @@ int corpus_score(const Words& w) {
   std::fprintf(stderr, "tagbench corpus score: %zu records, %zu families in %.2f s%s\n", store.records.size(),
                families.size(), secs,
                nearest ? "; rows with bits corrected > (h-1)/2 accept a quad whose nearest code is that close" : "");
+  // Rows of 0 quads are a valid answer, but one that should not pass for "nothing was accepted".
+  for (const auto& f : without_quads)
+    std::fprintf(stderr, "tagbench corpus score: note: %s has no quad of the payload size of %s; its rows are 0\n",
+                 file->c_str(), f.c_str());
   return 0;
 }
 }  // namespace
@@ -262,11 +285,22 @@ int cmd_corpus(const Words& w) {
   }
   if (wants_help(w, kHelp)) return 0;
   const Words rest(w.begin() + 1, w.end());
-  if (w[0] == "build") return corpus_build(rest);
-  if (w[0] == "list") return corpus_list(rest);
-  if (w[0] == "candidates") return corpus_candidates(rest);
-  if (w[0] == "merge") return corpus_merge(rest);
-  if (w[0] == "score") return corpus_score(rest);
+  constexpr std::pair<const char*, int (*)(const Words&)> kSubcommands[] = {
+      {"build", corpus_build}, {"list", corpus_list}, {"candidates", corpus_candidates},
+      {"merge", corpus_merge}, {"score", corpus_score}};
+  for (const auto& [name, run] : kSubcommands) {
+    if (w[0] != name) continue;
+    // main() would prefix only "tagbench corpus: "; errors name the subcommand too, with main's exit codes.
+    try {
+      return run(rest);
+    } catch (const UsageError& e) {
+      std::fprintf(stderr, "tagbench corpus %s: %s\n", name, e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "tagbench corpus %s: %s\n", name, e.what());
+      return 1;
+    }
+  }
   throw UsageError("unknown subcommand '" + w[0] + "' (build, list, candidates, merge, score)");
 }
 

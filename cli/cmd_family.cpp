@@ -193,6 +193,9 @@ int do_generate(const Words& w) {
     if (p.order == CandidateOrder::kLex) name += "_lex";
   }
 
+  // A run killed with kill -9 while it wrote its checkpoint (or family file) left the temporary.
+  for (const auto& path : {ckpt, out})
+    if (path) remove_stale_temporaries(std::filesystem::absolute(*path).parent_path());
   LexicodeGenerator gen(p, std::move(start));
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);

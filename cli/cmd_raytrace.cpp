@@ -218,6 +218,7 @@ int cmd_raytrace(const Words& w) {
                  failures - kFailuresShown);
   const std::string stem = result_stem(s.experiment);
   const bool made_out = std::filesystem::create_directories(out);
+  remove_stale_temporaries(out);  // of a run killed while it wrote these files
   try {
     // The rows, their summary and the settings together or none of them.
     write_files_atomic({{out / (stem + ".csv"), rows_csv(r)},

@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <fnmatch.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -43,6 +45,7 @@ std::string deb_file_prefix(const std::string& package, const std::string& versi
 namespace {
 
 constexpr const char* kRccPrefix = "/_rcc/";
+constexpr const char* kDownloadPrefix = ".download-";  // + owner_tag() + "-" + package: one download
 constexpr const char* kRccDir = "usr/share/gcompris-qt/rcc";
 
 bool is_rcc(const std::string& path) { return path.rfind(kRccPrefix, 0) == 0; }
@@ -56,9 +59,13 @@ int run_process(const std::vector<std::string>& argv, const fs::path& cwd, const
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   const std::string dir = cwd.string(), logfile = log.string();
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) throw std::runtime_error("cannot start " + argv[0]);
   if (pid == 0) {
+    // Dies with us: an orphaned dpkg-deb would go on writing into the folder a rerun unpacks into
+    // again, an orphaned apt-get into the cache. (Sent when the forking thread ends; it waits here.)
+    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(126);
     const int fd = ::open(logfile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int in = ::open("/dev/null", O_RDONLY);
     if (fd < 0 || in < 0 || ::chdir(dir.c_str()) != 0) ::_exit(126);
@@ -137,15 +144,30 @@ struct Builder {
       throw std::runtime_error("no " + prefix + "*.deb in " + opt.debs.string() + " (--debs)");
     }
     if (auto d = find_deb(cache, prefix)) return *d;
-    const fs::path log = cache / (".apt-get-" + sanitize(p.name) + ".log");
-    const int rc = run_process({"apt-get", "download", "-q", p.name + "=" + p.version}, cache, log);
+    // Downloaded into a folder of its own and moved into the cache once complete: a download cut
+    // short (kill -9) must never be a PKG_VERSION_*.deb that a rerun takes as the package.
+    const fs::path dl = cache / (std::string(kDownloadPrefix) + owner_tag() + "-" + sanitize(p.name));
+    fs::remove_all(dl);
+    fs::create_directories(dl);
+    struct Cleanup {
+      fs::path d;
+      ~Cleanup() {
+        std::error_code ec;
+        fs::remove_all(d, ec);
+      }
+    } cleanup{dl};
+    const fs::path log = dl / "apt-get.log";
+    const int rc = run_process({"apt-get", "download", "-q", p.name + "=" + p.version}, dl, log);
     if (rc != 0)
       throw std::runtime_error("apt-get download " + p.name + "=" + p.version + " failed (exit " + std::to_string(rc) +
                                "): " + last_line(log));
-    fs::remove(log);
-    if (auto d = find_deb(cache, prefix)) return *d;
-    throw std::runtime_error("apt-get download " + p.name + "=" + p.version + " left no " + prefix + "*.deb in " +
-                             cache.string());
+    const auto got = find_deb(dl, prefix);
+    if (!got)
+      throw std::runtime_error("apt-get download " + p.name + "=" + p.version + " left no " + prefix + "*.deb in " +
+                               dl.string());
+    const fs::path deb = cache / got->filename();
+    fs::rename(*got, deb);
+    return deb;
   }
 
   void check_sha(const Package& p, const std::string& path, const std::string& sha) {
@@ -321,6 +343,28 @@ struct Builder {
   }
 };
 
+// What a run killed with kill -9 leaves: the unpacked packages in OUT/.work (a rerun unpacks every
+// package it needs afresh; one build at a time per folder), the temporaries of atomic writes (PNGs,
+// the manifest) anywhere in OUT, and its unfinished downloads in the cache. Downloads of a run still
+// going (its own process, on this host or another sharing the cache) are left alone.
+void clear_leftovers(const fs::path& out, const fs::path& cache) {
+  std::error_code ec;
+  fs::remove_all(out / ".work", ec);
+  remove_stale_temporaries(out, /*recursive=*/true);
+  if (cache.empty()) return;
+  for (fs::directory_iterator it(cache, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    if (n.rfind(kDownloadPrefix, 0) != 0) continue;
+    const std::string rest = n.substr(std::string(kDownloadPrefix).size());  // PID-HOST-package
+    const auto dash1 = rest.find('-');
+    const auto dash2 = dash1 == std::string::npos ? std::string::npos : rest.find('-', dash1 + 1);
+    std::error_code rec;
+    if (dash2 != std::string::npos && owner_is_gone(std::string_view(rest).substr(0, dash2)))
+      fs::remove_all(it->path(), rec);
+  }
+  remove_stale_temporaries(cache);
+}
+
 }  // namespace
 
 BuildStats build_corpus(const BuildOptions& opt) {
@@ -366,6 +410,7 @@ BuildStats build_corpus(const BuildOptions& opt) {
 
   b.cache = opt.cache.empty() ? opt.out / ".debs" : opt.cache;
   if (opt.debs.empty()) fs::create_directories(b.cache);
+  clear_leftovers(opt.out, opt.debs.empty() ? b.cache : fs::path());
   if (opt.progress) b.bar = std::make_unique<ProgressBar>("corpus build");
 
   std::atomic<std::size_t> next{0};

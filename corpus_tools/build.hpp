@@ -5,7 +5,11 @@
 // with OpenCV, scale to at most 2048 px on the long side and write PNGs:
 //   OUT/stills/<group>/<name>.png, OUT/video/<group>/<name>_f<frame>.png, OUT/manifest.tsv.
 // A rebuild with every output in place does nothing; an extracted original whose sha256 differs
-// from the manifest's is an error naming it and its package.
+// from the manifest's is an error naming it and its package. Interrupted (even by kill -9), a rerun
+// ends with the files of an uninterrupted build: the manifest is written after each package, every
+// file atomically, a download is moved into the cache only when complete, the child processes die
+// with the build, and a run first clears what killed runs left (OUT/.work, temporaries, downloads).
+// One build at a time per output folder.
 #include <filesystem>
 #include <functional>
 #include <string>

@@ -166,7 +166,9 @@ std::vector<CandidateImage> corpus_images(const fs::path& dir) {
     }
     return out;
   }
-  const FolderScan scan = scan_folder(dir);
+  // Listed, not decoded: the extraction decodes each image anyway (and records its size), and every
+  // shard lists the whole folder, so a decoding scan would cost each shard as much as the work.
+  const FolderScan scan = list_image_files(dir);
   for (const auto& s : scan.images) {
     CandidateImage i;
     i.file = fs::relative(s.file, dir).generic_string();
@@ -256,6 +258,9 @@ CandidateStore extract_candidates(const fs::path& dir, std::vector<CandidateImag
 }
 
 std::string encode_candidates(const CandidateStore& s) {
+  if (s.images.size() > kMaxCandidateImages)
+    throw std::runtime_error("candidate store: " + std::to_string(s.images.size()) + " images, over the limit of " +
+                             std::to_string(kMaxCandidateImages));
   std::string body;
   body.reserve(s.settings.size() + s.records.size() * kRecordSize);
   body += s.settings;
@@ -308,7 +313,8 @@ CandidateStore decode_candidates(const std::string& bytes, const std::string& na
     fail("size " + std::to_string(bytes.size()) + " bytes does not match the header (" + std::to_string(n_records) +
          " records of " + std::to_string(kRecordSize) + " bytes); truncated or damaged");
   if (fnv1a(bytes.data() + kHeaderSize, avail) != checksum) fail("checksum mismatch; the file is damaged");
-  if (n_images > std::numeric_limits<std::uint32_t>::max() + 1ULL) fail("image count out of range");
+  if (n_images > kMaxCandidateImages)
+    fail("image count " + std::to_string(n_images) + " is over the limit of " + std::to_string(kMaxCandidateImages));
   CandidateStore s;
   s.settings.assign(bytes.data() + kHeaderSize, settings_len);
   s.images.resize(static_cast<std::size_t>(n_images));
@@ -397,8 +403,8 @@ fs::path candidate_index_path(const fs::path& bin) {
 }
 
 void write_candidates(const fs::path& bin, const CandidateStore& s) {
-  write_file_atomic(candidate_index_path(bin), candidate_index_tsv(s.images));
-  write_file_atomic(bin, encode_candidates(s));
+  // As a pair: a failed write (a full disk) must not leave a new index beside an old or missing store.
+  write_files_atomic({{candidate_index_path(bin), candidate_index_tsv(s.images)}, {bin, encode_candidates(s)}});
 }
 
 CandidateStore read_candidates(const fs::path& bin, bool with_index) {

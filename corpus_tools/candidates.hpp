@@ -28,6 +28,11 @@
 namespace tagbench::corpus {
 
 inline constexpr std::uint32_t kCandidatesVersion = 1;
+// The most images a store may count (2^22 = 4194304). A store is read whole into memory, with a
+// default CandidateImage per counted image, so the reader refuses a larger count before
+// allocating (a damaged count field would otherwise ask for up to 2^32 entries, about 700 GB), and
+// the writer refuses to write a store it could not read back.
+inline constexpr std::uint64_t kMaxCandidateImages = std::uint64_t{1} << 22;
 inline constexpr std::array<int, 3> kCandidateWidths = {4, 5, 6};
 
 struct CandidateRecord {
@@ -66,8 +71,11 @@ struct CandidateStore {
   std::uint64_t quads = 0;               // candidate quads over all images
 };
 
-// The images of a corpus: DIR/manifest.tsv if there is one, else every image under DIR (scan.hpp)
-// but for files named corpus_candidates* directly in DIR (the stores this program writes there).
+// The images of a corpus: DIR/manifest.tsv if there is one, else every image file under DIR
+// (list_image_files, scan.hpp: by extension and signature, nothing decoded; width and height are
+// filled in by extract_candidates, which decodes each image once) but for files named
+// corpus_candidates* directly in DIR (the stores this program writes there). Files that already
+// fail the listing (no image signature, cannot be opened) are rows with status "unreadable".
 std::vector<CandidateImage> corpus_images(const std::filesystem::path& dir);
 
 struct ExtractProgress {
@@ -81,14 +89,17 @@ CandidateStore extract_candidates(const std::filesystem::path& dir, std::vector<
                                   const DetectorOptions& opt, int jobs,
                                   const std::function<void(const ExtractProgress&)>& progress = {});
 
-std::string encode_candidates(const CandidateStore& s);  // the .bin bytes (images: only their count)
+// The .bin bytes (images: only their count). Throws std::runtime_error for more than
+// kMaxCandidateImages images.
+std::string encode_candidates(const CandidateStore& s);
 std::string candidate_index_tsv(const std::vector<CandidateImage>& images);
-// Writes `bin` and the index beside it (bin with extension .tsv), both atomically.
+// Writes `bin` and the index beside it (bin with extension .tsv) atomically as a pair: on failure
+// neither is written (write_files_atomic).
 void write_candidates(const std::filesystem::path& bin, const CandidateStore& s);
 std::filesystem::path candidate_index_path(const std::filesystem::path& bin);
 
 // Reads a store; `name` for errors. Throws std::runtime_error with one line "NAME: problem" when
-// the magic, version, sizes, checksum or a record is wrong. The images are only counted (their
+// the magic, version, sizes, checksum, image count (over kMaxCandidateImages) or a record is wrong. The images are only counted (their
 // entries are default), unless the index is read too (read_candidates with the path).
 CandidateStore decode_candidates(const std::string& bytes, const std::string& name);
 CandidateStore read_candidates(const std::filesystem::path& bin, bool with_index = true);

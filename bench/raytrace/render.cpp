@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -133,9 +134,14 @@ int run_povray(const fs::path& exe, const std::vector<std::string>& args, const 
   for (auto& a : all) argv.push_back(a.data());
   argv.push_back(nullptr);
   const std::string dir_s = dir.string(), log_s = log.string();
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) throw std::runtime_error("cannot start povray: fork failed");
   if (pid == 0) {  // only async-signal-safe calls from here on
+    // POV-Ray dies with us: after a kill -9 an orphan would render on for minutes, for nobody (its
+    // frames are only ever moved into the cache by this process). The signal comes when the forking
+    // thread ends, and that thread waits for this child.
+    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(126);
     if (::chdir(dir_s.c_str()) != 0) ::_exit(126);
     const int fd = ::open(log_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int null = ::open("/dev/null", O_RDONLY);
@@ -169,6 +175,27 @@ std::size_t placeholder_count(const std::string& t) {
   std::size_t n = 0;
   for (auto p = t.find(kPlaceholder); p != std::string::npos; p = t.find(kPlaceholder, p + 1)) ++n;
   return n;
+}
+
+// A batch's files are named batch-ID.pov, batch-ID-wW-R.log and tmp-ID-NNN.png with ID = OWNER-HASH
+// (OWNER = owner_tag(), "PID-HOST"). Removes those of batches whose process is gone (killed), and the
+// atomic writes' temporaries; batches of runs still going (on this host or another sharing the cache)
+// are left alone.
+void clear_dead_batches(const fs::path& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    std::string rest;
+    if (n.rfind("batch-", 0) == 0) rest = n.substr(6);
+    else if (n.rfind("tmp-", 0) == 0) rest = n.substr(4);
+    else continue;
+    const auto dash1 = rest.find('-');
+    const auto dash2 = dash1 == std::string::npos ? std::string::npos : rest.find('-', dash1 + 1);
+    std::error_code rec;
+    if (dash2 != std::string::npos && owner_is_gone(std::string_view(rest).substr(0, dash2)))
+      fs::remove(it->path(), rec);
+  }
+  remove_stale_temporaries(dir);
 }
 
 }  // namespace
@@ -373,7 +400,9 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
     // One scene for every missing frame, numbered 1..M in job order.
     std::string keys;
     for (const Job& j : jobs) keys += j.key;
-    const std::string batch = key_of(keys + "\n" + std::to_string(::getpid())).substr(0, 12);
+    // The owner first, so that a later run can clear this batch's files should this process be killed.
+    clear_dead_batches(dir);
+    const std::string batch = owner_tag() + "-" + key_of(keys).substr(0, 12);
     std::string cases = "#switch (frame_number)\n";
     for (std::size_t k = 0; k < jobs.size(); ++k) cases += frame_case(static_cast<int>(k + 1), *jobs[k].frame, jobs[k].scene);
     cases += "#else\n  #error \"tagbench: no frame with this number\"\n#end\n";
@@ -495,7 +524,8 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
         ++report.failed;
     }
     std::error_code ec;
-    if (report.failed == 0) fs::remove(dir / scene_file, ec);  // kept otherwise: POV-Ray's messages cite its lines
+    // Kept otherwise, as POV-Ray's messages cite its lines, until the next run that renders (clear_dead_batches).
+    if (report.failed == 0) fs::remove(dir / scene_file, ec);
     for (std::size_t i = 0; i < frames.size(); ++i) {
       if (frame_job[i] < 0) continue;
       const Job& j = jobs[static_cast<std::size_t>(frame_job[i])];

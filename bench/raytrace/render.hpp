@@ -12,7 +12,9 @@
 // several povray processes at once. Every frame is cached in a flat directory under a hash of what
 // determines its pixels (scene template, pose, family, id, tag cells, tag size, per-frame SDL, render
 // settings), written under a temporary name and renamed once it decodes, so an interrupted run resumes
-// where it stopped and a rerun renders nothing.
+// where it stopped and a rerun renders nothing. POV-Ray dies with the process that started it (a
+// kill -9 leaves no povray rendering on), and the next run that renders removes the scene, logs and
+// unfinished frames of runs that are gone.
 #include <cstddef>
 #include <filesystem>
 #include <functional>

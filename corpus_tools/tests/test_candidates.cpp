@@ -23,6 +23,8 @@
 #include "detect/tests/synthetic_tag.hpp"
 #include "util/atomic_file.hpp"
 
+#include "kill_run.hpp"
+
 namespace fs = std::filesystem;
 using namespace tagbench;
 using namespace tagbench::corpus;
@@ -104,9 +106,20 @@ const CandidateStore& store1() {
   return s;
 }
 
+// A folder beside the corpus (not in it: the corpus' listing must not change) for one test.
+fs::path side_dir(const std::string& name) {
+  const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_candidates_side_" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
 // Removes the corpus folder after the last test.
 struct Cleanup : ::testing::Environment {
-  void TearDown() override { fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_candidates_" + std::to_string(::getpid()))); }
+  void TearDown() override {
+    fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_candidates_" + std::to_string(::getpid())));
+    fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_candidates_side_" + std::to_string(::getpid())));
+  }
 };
 const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new Cleanup);
 
@@ -210,6 +223,9 @@ TEST(Candidates, DamagedStoresAreRefusedWithOneLine) {
   flip(8, "version");
   flip(12, "record size");
   flip(40, "record count");
+  // The header is outside the checksum: 2^28 more images must be refused (kMaxCandidateImages),
+  // not allocated (fuzz finding: a damaged count asked for hundreds of GB).
+  flip(19, "image count");
   flip(rec0 + 9, "record bits");
   flip(good.size() - 3, "last corner");
   flip(rec0 - 2, "settings text");
@@ -287,7 +303,7 @@ TEST(Candidates, CommandLine) {
   EXPECT_EQ(rows[3].rfind("16h5\t0\t", 0), 0u) << rows[3];
 
   // A corpus with a manifest is read through it.
-  const fs::path m = corpus_dir() / "withmanifest";
+  const fs::path m = side_dir("withmanifest");  // not in the corpus, whose listing the other tests rely on
   fs::create_directories(m / "stills" / "g");
   fs::copy_file(corpus_dir() / "tag.png", m / "stills" / "g" / "t.png");
   write_file_atomic(m / "manifest.tsv",
@@ -301,6 +317,96 @@ TEST(Candidates, CommandLine) {
   EXPECT_EQ(st.images[0].kind, "still");
   EXPECT_GE(score_family(st.records, builtin_family("36h11"), 0).accepted[0], 1u);
   EXPECT_NE(run("corpus candidates --corpus " + (m / "nope").string()).code, 0);
+}
+
+TEST(Candidates, ListingDoesNotDecodeAndFilesThatDoNotDecodeAreUnreadableRows) {
+  const fs::path d = side_dir("listing");
+  fs::copy_file(corpus_dir() / "tag.png", d / "tag.png", fs::copy_options::overwrite_existing);
+  const std::string bytes = slurp(d / "tag.png");
+  std::ofstream(d / "cut.png", std::ios::binary) << bytes.substr(0, bytes.size() / 3);  // signature intact
+  std::ofstream(d / "fake.png", std::ios::binary) << "no image signature";
+  std::ofstream(d / "readme.txt") << "not an image";
+  const auto imgs = corpus_images(d);
+  ASSERT_EQ(imgs.size(), 3u);
+  // Listed by signature only: the cut PNG is not found out yet, and no size is known before decoding.
+  EXPECT_EQ(imgs[0].file, "cut.png");
+  EXPECT_EQ(imgs[0].status, "ok");
+  EXPECT_EQ(imgs[1].file, "fake.png");
+  EXPECT_EQ(imgs[1].status, "unreadable");
+  EXPECT_EQ(imgs[1].reason, "not decodable as an image");
+  EXPECT_EQ(imgs[2].file, "tag.png");
+  EXPECT_EQ(imgs[2].width, 0);
+  // The extraction decodes each image once: sizes filled in, the cut file an unreadable row.
+  const auto st = extract_candidates(d, imgs, DetectorOptions{}, 2);
+  ASSERT_EQ(st.images.size(), 3u);
+  EXPECT_EQ(st.images[0].status, "unreadable");
+  EXPECT_FALSE(st.images[0].reason.empty());
+  EXPECT_EQ(st.images[1].status, "unreadable");
+  EXPECT_EQ(st.images[2].status, "ok");
+  EXPECT_EQ(st.images[2].width, 300);
+  EXPECT_EQ(st.images[2].height, 220);
+  // `corpus list` still decodes: the cut file is unreadable there, the good one has its size.
+  const auto r = run("corpus list --from " + d.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("unreadable\t" + (d / "cut.png").string()), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("ok\t" + (d / "tag.png").string() + "\t300\t220"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("1 images, 2 unreadable, 1 other files"), std::string::npos) << r.err;
+}
+
+TEST(Candidates, AFolderWithoutImagesIsAnErrorNamingItAndNothingIsWritten) {
+  const fs::path empty = side_dir("noimages"), text = side_dir("onlytext"), manifest = side_dir("emptymanifest");
+  std::ofstream(text / "notes.txt") << "no image here";
+  write_file_atomic(manifest / "manifest.tsv", manifest_tsv({}));
+  for (const auto& [dir, why] : {std::pair{empty, "no image file under it"}, std::pair{text, "no image file under it"},
+                                 std::pair{manifest, "its manifest.tsv lists none"}}) {
+    std::vector<fs::path> before;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) before.push_back(e.path());
+    for (const std::string extra : {"", " --shard 0/2"}) {
+      const auto r = run("corpus candidates --corpus " + dir.string() + extra);
+      EXPECT_EQ(r.code, 1) << dir;
+      EXPECT_EQ(r.err, "tagbench corpus candidates: " + dir.string() + ": no images (" + why + ")\n");
+    }
+    std::vector<fs::path> after;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) after.push_back(e.path());
+    EXPECT_EQ(after, before) << "nothing written in " << dir;
+  }
+}
+
+TEST(Candidates, ScoringAStoreWithoutQuadsOfTheFamilysSizeWorksAndSaysSo) {
+  const fs::path d = side_dir("blankonly");
+  cv::imwrite((d / "blank.png").string(), cv::Mat(60, 80, CV_8UC1, cv::Scalar(128)));
+  const auto c = run("corpus candidates --corpus " + d.string());
+  ASSERT_EQ(c.code, 0) << c.err;
+  const auto r =
+      run("corpus score --candidates " + (d / "corpus_candidates.bin").string() + " --family 36h11,16h5 --max-bits 1");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, "family\tbits_corrected\tquads\taccepted\trate\n36h11\t0\t0\t0\t0\n36h11\t1\t0\t0\t0\n"
+                   "16h5\t0\t0\t0\t0\n16h5\t1\t0\t0\t0\n");
+  for (const char* f : {"36h11 (6x6)", "16h5 (4x4)"})
+    EXPECT_NE(r.err.find("tagbench corpus score: note: " + (d / "corpus_candidates.bin").string() +
+                         " has no quad of the payload size of " + f),
+              std::string::npos)
+        << r.err;
+  // A store with quads of the size: no note.
+  const fs::path full = side_dir("withquads") / "c.bin";
+  write_candidates(full, store1());
+  const auto ok = run("corpus score --candidates " + full.string() + " --family 36h11");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("note:"), std::string::npos) << ok.err;
+}
+
+TEST(Candidates, AFullDiskLeavesNeitherTheStoreNorItsIndex) {
+  const fs::path out = side_dir("fulldisk"), logs = side_dir("fulldisk-logs");
+  const std::size_t tsv = candidate_index_tsv(store1().images).size(), bin = encode_candidates(store1()).size();
+  ASSERT_LT(tsv + 100, bin) << "the index must fit where the store does not";
+  // Files up to the index's size plus a little can be written: the index would be, the store not.
+  const auto r = tagbench::testing::run_tagbench_with(
+      "corpus candidates --corpus " + corpus_dir().string() + " --out " + (out / "c.bin").string(), logs, "",
+      static_cast<long long>(tsv + 100));
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(r.err.rfind("tagbench corpus candidates: cannot write " + (out / "c.bin").string(), 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_TRUE(fs::is_empty(out)) << "no store, no index, no temporary";
 }
 
 // ---- Shards (issue 5, section 4) ----

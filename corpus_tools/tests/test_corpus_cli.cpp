@@ -351,11 +351,13 @@ TEST(CorpusCli, MergeAndShardRefusals) {
   fs::create_directories(bad);
   const fs::path out = root() / "refused" / "c.bin";
 
-  // Refused with one line "tagbench corpus: ..." containing `needle`, exit `code`, nothing written.
+  // Refused with one line "tagbench corpus SUBCOMMAND: ..." containing `needle`, exit `code`, nothing
+  // written. `args` begins "corpus SUBCOMMAND ".
   const auto refused = [&](const std::string& args, const std::string& needle, int code = 1) {
     const Result r = run(args);
     EXPECT_EQ(r.code, code) << args << "\n" << r.err;
-    EXPECT_EQ(r.err.rfind("tagbench corpus: ", 0), 0u) << r.err;
+    const std::string prefix = "tagbench " + args.substr(0, args.find(' ', args.find(' ') + 1)) + ": ";
+    EXPECT_EQ(r.err.rfind(prefix, 0), 0u) << prefix << "\n" << r.err;
     EXPECT_NE(r.err.find(needle), std::string::npos) << "wanted: " << needle << "\ngot: " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(fs::exists(out)) << args;

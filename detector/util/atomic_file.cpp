@@ -1,9 +1,12 @@
 #include "util/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -14,9 +17,24 @@ namespace tagbench {
 
 namespace {
 
-std::filesystem::path temporary_for(const std::filesystem::path& target) {
-  return target.string() + ".tmp." + std::to_string(::getpid());
+// 8 hex digits of FNV-1a 32 of the host name: short, and the same in every process of the host.
+const std::string& host_hash() {
+  static const std::string h = [] {
+    char name[256] = {};
+    if (::gethostname(name, sizeof name - 1) != 0) name[0] = '\0';
+    std::uint32_t v = 0x811c9dc5u;
+    for (const char* c = name; *c; ++c) {
+      v ^= static_cast<unsigned char>(*c);
+      v *= 0x01000193u;
+    }
+    char buf[9];
+    std::snprintf(buf, sizeof buf, "%08x", v);
+    return std::string(buf);
+  }();
+  return h;
 }
+
+std::filesystem::path temporary_for(const std::filesystem::path& target) { return atomic_temporary(target); }
 
 // Writes `content` to target's temporary and syncs it; on failure removes it and throws.
 void write_temporary(const std::filesystem::path& target, std::string_view content) {
@@ -55,6 +73,48 @@ void rename_temporary(const std::filesystem::path& target) {
 }
 
 }  // namespace
+
+std::string owner_tag(pid_t pid) { return std::to_string(pid) + "-" + host_hash(); }
+std::string owner_tag() { return owner_tag(::getpid()); }
+
+bool owner_is_gone(std::string_view tag) {
+  const auto dash = tag.find('-');
+  if (dash == std::string_view::npos || dash == 0 || dash > 9 || tag.substr(dash + 1) != host_hash()) return false;
+  long pid = 0;
+  for (const char c : tag.substr(0, dash)) {
+    if (c < '0' || c > '9') return false;
+    pid = pid * 10 + (c - '0');
+  }
+  if (pid <= 0 || pid == ::getpid()) return false;
+  // EPERM: it exists under another user. A zombie still counts as alive (its parent has not reaped it).
+  return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+}
+
+std::filesystem::path atomic_temporary(const std::filesystem::path& target, pid_t pid) {
+  return target.string() + ".tmp." + owner_tag(pid > 0 ? pid : ::getpid());
+}
+
+std::size_t remove_stale_temporaries(const std::filesystem::path& dir, bool recursive) {
+  namespace fs = std::filesystem;
+  std::size_t removed = 0;
+  const auto consider = [&](const fs::directory_entry& e) {
+    std::error_code ec;
+    if (!e.is_regular_file(ec) || e.is_symlink(ec)) return;
+    const std::string name = e.path().filename().string();
+    const auto at = name.rfind(".tmp.");
+    if (at == std::string::npos || at == 0) return;
+    if (owner_is_gone(std::string_view(name).substr(at + 5)) && fs::remove(e.path(), ec)) ++removed;
+  };
+  std::error_code ec;
+  if (recursive) {
+    fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
+    for (; !ec && it != end; it.increment(ec)) consider(*it);
+  } else {
+    fs::directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
+    for (; !ec && it != end; it.increment(ec)) consider(*it);
+  }
+  return removed;
+}
 
 void write_file_atomic(const std::filesystem::path& target, std::string_view content) {
   write_temporary(target, content);
