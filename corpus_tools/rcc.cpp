@@ -12,6 +12,9 @@ namespace tagbench::corpus {
 namespace {
 constexpr std::uint16_t kCompressed = 1, kDirectory = 2, kCompressedZstd = 4;
 constexpr std::uint64_t kMaxEntryBytes = std::uint64_t{1} << 31;  // refuse absurd sizes from corrupt input
+// Deflate turns one byte into at most 1032 (a 258-byte match per 2 bits): a zlib entry whose
+// stated size is beyond that of its data is corrupt, refused before the size is allocated.
+constexpr std::uint64_t kMaxZlibRatio = 1032;
 constexpr int kMaxDepth = 256;
 
 void append_utf8(std::string& out, std::uint32_t cp) {
@@ -150,7 +153,8 @@ std::string RccArchive::decode(const File& f) const {
     if (len < 4) fail(f.path + ": zlib entry shorter than its size field");
     const std::uint64_t expect = (std::uint64_t{payload[0]} << 24) | (std::uint64_t{payload[1]} << 16) |
                                  (std::uint64_t{payload[2]} << 8) | payload[3];
-    if (expect > kMaxEntryBytes) fail(f.path + ": zlib entry claims " + std::to_string(expect) + " bytes");
+    if (expect > kMaxEntryBytes || expect > (std::uint64_t{len} - 4) * kMaxZlibRatio)
+      fail(f.path + ": zlib entry claims " + std::to_string(expect) + " bytes from " + std::to_string(len - 4));
     std::string out(expect, '\0');
     uLongf out_len = static_cast<uLongf>(expect);
     const int rc = uncompress(reinterpret_cast<Bytef*>(out.data()), &out_len, payload + 4, len - 4);
@@ -162,15 +166,12 @@ std::string RccArchive::decode(const File& f) const {
   if (f.flags & kCompressedZstd) {
     const unsigned long long stated = ZSTD_getFrameContentSize(payload, len);
     if (stated == ZSTD_CONTENTSIZE_ERROR) fail(f.path + ": not a zstd frame");
+    const bool known = stated != ZSTD_CONTENTSIZE_UNKNOWN;
+    if (known && stated > kMaxEntryBytes) fail(f.path + ": zstd entry claims " + std::to_string(stated) + " bytes");
+    // Streamed whether or not the frame states its size: the stated size is only a header field,
+    // so memory must follow the data actually decompressed (a few corrupt bytes must not make us
+    // allocate up to kMaxEntryBytes).
     std::string out;
-    if (stated != ZSTD_CONTENTSIZE_UNKNOWN) {
-      if (stated > kMaxEntryBytes) fail(f.path + ": zstd entry claims " + std::to_string(stated) + " bytes");
-      out.resize(stated);
-      const std::size_t n = ZSTD_decompress(out.data(), out.size(), payload, len);
-      if (ZSTD_isError(n) || n != stated) fail(f.path + ": zstd data does not decompress to its stated size");
-      return out;
-    }
-    // No size in the frame header: stream it.
     ZSTD_DStream* ds = ZSTD_createDStream();
     ZSTD_initDStream(ds);
     ZSTD_inBuffer in{payload, len, 0};
@@ -179,13 +180,17 @@ std::string RccArchive::decode(const File& f) const {
     while (in.pos < in.size || rc != 0) {
       ZSTD_outBuffer ob{chunk.data(), chunk.size(), 0};
       rc = ZSTD_decompressStream(ds, &ob, &in);
-      if (ZSTD_isError(rc) || (ob.pos == 0 && in.pos == in.size && rc != 0) || out.size() > kMaxEntryBytes) {
+      if (ZSTD_isError(rc) || (ob.pos == 0 && in.pos == in.size && rc != 0) || out.size() > kMaxEntryBytes ||
+          (known && out.size() + ob.pos > stated)) {
         ZSTD_freeDStream(ds);
-        fail(f.path + ": zstd data is corrupt or truncated");
+        fail(f.path + (known && !ZSTD_isError(rc) && out.size() + ob.pos > stated
+                           ? ": zstd data does not decompress to its stated size"
+                           : ": zstd data is corrupt or truncated"));
       }
       out.append(chunk.data(), ob.pos);
     }
     ZSTD_freeDStream(ds);
+    if (known && out.size() != stated) fail(f.path + ": zstd data does not decompress to its stated size");
     return out;
   }
   return std::string(reinterpret_cast<const char*>(payload), len);

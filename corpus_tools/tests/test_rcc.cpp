@@ -150,3 +150,24 @@ TEST(Rcc, CorruptCompressedData) {
     EXPECT_NE(std::string(e.what()).find("s.bin"), std::string::npos) << e.what();
   }
 }
+
+// A zlib entry's uncompressed size is a header field; a size its data cannot inflate to (deflate
+// expands at most 1032:1) is refused before anything that size is allocated (fuzz finding: a
+// 200-byte bundle stating 2 GB made the reader allocate and clear 2 GB first).
+TEST(Rcc, ZlibStatedSizeBeyondItsData) {
+  rcctest::Writer w;
+  w.add("z.bin", std::string(200, 'z'), Pack::zlib);
+  auto b = w.bytes(1);
+  const std::size_t stated = 20 + 4;  // after the header (20 bytes) and the entry's u32 data size
+  for (std::size_t i = 0; i < 4; ++i) b[stated + i] = static_cast<char>(i == 0 ? 0x7f : 0xff);
+  try {
+    RccArchive(b, "z.rcc").entries();
+    ADD_FAILURE() << "a zlib entry stating 2 GB from a few bytes was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("z.bin: zlib entry claims 2147483647 bytes"), std::string::npos) << e.what();
+  }
+  // The largest size the data could hold is still read normally when true.
+  rcctest::Writer ok;
+  ok.add("big.bin", std::string(100000, '\0'), Pack::zlib);
+  EXPECT_EQ(RccArchive(ok.bytes(1), "ok.rcc").read("/big.bin"), std::string(100000, '\0'));
+}

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -80,6 +81,16 @@ long long get_int(const HeaderFile& f, const std::string& key, const std::string
   return v;
 }
 
+// bits, hamming and complexity are ints: a value outside int must be refused, not wrapped into a
+// valid-looking one ("bits: 4294967312" read as 16).
+int get_small_int(const HeaderFile& f, const std::string& key, const std::string& source) {
+  const long long v = get_int(f, key, source, true);
+  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+    throw std::invalid_argument(source + ":" + std::to_string(f.key_line.at(key)) + ": '" + key +
+                                "' is out of range: " + std::to_string(v));
+  return static_cast<int>(v);
+}
+
 }  // namespace
 
 std::optional<Code> parse_hex_code(const std::string& token) {
@@ -101,9 +112,9 @@ TagFamily parse_family(const std::string& text, const std::string& source) {
   FamilyInfo info;
   if (!f.keys.count("name")) throw std::invalid_argument(source + ": missing header key 'name'");
   info.name = f.keys.at("name");
-  info.bits = static_cast<int>(get_int(f, "bits", source, true));
-  info.min_hamming = static_cast<int>(get_int(f, "hamming", source, true));
-  info.min_complexity = static_cast<int>(get_int(f, "complexity", source, true));
+  info.bits = get_small_int(f, "bits", source);
+  info.min_hamming = get_small_int(f, "hamming", source);
+  info.min_complexity = get_small_int(f, "complexity", source);
   if (f.keys.count("seed")) info.seed = get_int(f, "seed", source, true);
   if (f.keys.count("order")) info.order = f.keys.at("order");
   if (f.keys.count("generator")) info.generator = f.keys.at("generator");
@@ -178,30 +189,53 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
   if (!f.keys.count("status") || f.keys.at("status") != "partial")
     throw std::invalid_argument(source + ": not a lexicode checkpoint (no 'status: partial')");
   Checkpoint c;
-  c.params.bits = static_cast<int>(get_int(f, "bits", source, true));
-  c.params.min_hamming = static_cast<int>(get_int(f, "hamming", source, true));
-  c.params.min_complexity = static_cast<int>(get_int(f, "complexity", source, true));
+  c.params.bits = get_small_int(f, "bits", source);
+  c.params.min_hamming = get_small_int(f, "hamming", source);
+  c.params.min_complexity = get_small_int(f, "complexity", source);
   c.params.seed = get_int(f, "seed", source, true);
-  c.params.order = parse_candidate_order(f.keys.count("order") ? f.keys.at("order") : "prime");
+  // Errors of the shared parsers gain the file's name, as every other error here has it.
+  const auto named = [&](auto&& parse) {
+    try {
+      return parse();
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(source + ": " + e.what());
+    }
+  };
+  c.params.order =
+      named([&] { return parse_candidate_order(f.keys.count("order") ? f.keys.at("order") : "prime"); });
   if (f.keys.count("generator") && f.keys.at("generator") != "tagbench-lexicode " + std::to_string(kGeneratorVersion))
     throw std::invalid_argument(source + ": written by another generator version: '" + f.keys.at("generator") + "'");
   {
     const auto it = f.keys.find("next_index");
     if (it == f.keys.end()) throw std::invalid_argument(source + ": missing header key 'next_index'");
+    // 128 bits (a candidate index can reach 2^64); digits only, at least one, and no wrap-around.
+    constexpr unsigned __int128 kMax = ~static_cast<unsigned __int128>(0);
     unsigned __int128 v = 0;
+    if (it->second.empty()) throw std::invalid_argument(source + ": 'next_index' is not an integer");
     for (const char ch : it->second) {
       if (ch < '0' || ch > '9') throw std::invalid_argument(source + ": 'next_index' is not an integer");
-      v = v * 10 + static_cast<unsigned>(ch - '0');
+      const unsigned digit = static_cast<unsigned>(ch - '0');
+      if (v > (kMax - digit) / 10) throw std::invalid_argument(source + ": 'next_index' is out of range");
+      v = v * 10 + digit;
     }
     c.state.next_index = v;
   }
-  if (f.keys.count("elapsed_seconds")) c.state.elapsed_seconds = std::stod(f.keys.at("elapsed_seconds"));
+  if (const auto it = f.keys.find("elapsed_seconds"); it != f.keys.end()) {
+    // Finite and non-negative, and at most 1e15 s so that the milliseconds format_checkpoint writes
+    // back fit a long long.
+    const std::string& t = it->second;
+    double v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (t.empty() || r.ec != std::errc() || r.ptr != t.data() + t.size() || !(v >= 0) || v > 1e15)
+      throw std::invalid_argument(source + ": 'elapsed_seconds' is not a number of seconds in 0..1e15: '" + t + "'");
+    c.state.elapsed_seconds = v;
+  }
   const long long count = get_int(f, "count", source, true);
   if (count != static_cast<long long>(f.codes.size()))
     throw std::invalid_argument(source + ": header says count " + std::to_string(count) + " but the file has " +
                                 std::to_string(f.codes.size()) + " codes");
   c.state.codes = f.codes;
-  c.params.validate();
+  named([&] { c.params.validate(); });
   return c;
 }
 

@@ -4,7 +4,6 @@
 // the counts that must come out are known: every tag is a "false" positive of every detector, and
 // its quad's 6x6 payload is an exact 36h11 code in Fig. 7's store.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -16,21 +15,13 @@
 
 #include "run_tagbench.hpp"
 #include "scenes.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using tagbench::testing::run_tagbench;
 using tagbench::testing::slurp;
 
 namespace {
-
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    std::string t = (fs::temp_directory_path() / "tagbench_falsepos_XXXXXX").string();
-    dir = mkdtemp(t.data());
-  }
-  ~Scratch() { fs::remove_all(dir); }
-};
 
 std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
   std::istringstream in(slurp(p));
@@ -90,17 +81,17 @@ void make_corpus(const fs::path& dir) {
 }  // namespace
 
 TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
-  Scratch s;
-  const fs::path corpus = s.dir / "corpus", out = s.dir / "results";
+  tagbench::testing::ScratchDir s("tagbench_falsepos");
+  const fs::path corpus = s.path() / "corpus", out = s.path() / "results";
   make_corpus(corpus);
   fs::create_directories(out);
   const std::string store = (corpus / "corpus_candidates.bin").string();
-  auto r = run_tagbench("corpus candidates --corpus " + corpus.string() + " --jobs 2", s.dir);
+  auto r = run_tagbench("corpus candidates --corpus " + corpus.string() + " --jobs 2", s.path());
   ASSERT_EQ(r.code, 0) << r.err;
 
   // Fig. 7: the five tags' quads carry exact 36h11 codes, so 36h11 accepts at least five at k = 0
   // (a tag's quad can be found more than once), in the still and video subsets 3 and 2 at least.
-  r = run_tagbench("falsepos codes --candidates " + store + " --out " + out.string() + " --max-bits 3", s.dir);
+  r = run_tagbench("falsepos codes --candidates " + store + " --out " + out.string() + " --max-bits 3", s.path());
   ASSERT_EQ(r.code, 0) << r.err;
   const auto fig7 = read_csv(out / "fig7_codes.csv");
   ASSERT_EQ(fig7.size(), 6u * 3u * 4u);  // 6 schemes x (all, still, video-frame) x k = 0..3
@@ -114,7 +105,7 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
   EXPECT_NE(slurp(out / "fig7_codes.json").find("\"payload_records\""), std::string::npos);
 
   // Fig. 6 on three thresholds: families generated here, seeds 250900 + c.
-  r = run_tagbench("falsepos complexity --candidates " + store + " --out " + out.string() + " --complexity 7-9", s.dir);
+  r = run_tagbench("falsepos complexity --candidates " + store + " --out " + out.string() + " --complexity 7-9", s.path());
   ASSERT_EQ(r.code, 0) << r.err;
   const auto fig6 = read_csv(out / "fig6_complexity.csv");
   ASSERT_EQ(fig6.size(), 3u * 3u * 5u);
@@ -126,7 +117,7 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
   // Whole detectors: every one of ours and aruco's finds the five tags, nothing else.
   r = run_tagbench("falsepos detectors --corpus " + corpus.string() + " --out " + out.string() +
                        " --detectors tagbench-full,aruco-default --families 36h11 --jobs 2",
-                   s.dir);
+                   s.path());
   ASSERT_EQ(r.code, 0) << r.err;
   const auto det = read_csv(out / "fp_detectors.csv");
   int checked = 0;
@@ -148,31 +139,31 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
 }
 
 TEST(FalseposCli, RefusesBadInputInOneLineWithoutOutput) {
-  Scratch s;
-  const fs::path out = s.dir / "results";
+  tagbench::testing::ScratchDir s("tagbench_falsepos");
+  const fs::path out = s.path() / "results";
   fs::create_directories(out);
-  fs::create_directories(s.dir / "empty");
-  std::ofstream(s.dir / "junk.bin") << "not a store";
+  fs::create_directories(s.path() / "empty");
+  std::ofstream(s.path() / "junk.bin") << "not a store";
   struct Case {
     std::string args, message;
     int code;
   };
   const std::vector<Case> cases{
       {"falsepos codes --out " + out.string(), "--candidates FILE is required", 2},
-      {"falsepos codes --candidates " + (s.dir / "none.bin").string() + " --out " + out.string(), "none.bin: no such file", 1},
-      {"falsepos codes --candidates " + (s.dir / "junk.bin").string() + " --out " + out.string(), "junk.bin", 1},
-      {"falsepos complexity --candidates x --out " + (s.dir / "nowhere").string(), "nowhere: no such directory", 2},
+      {"falsepos codes --candidates " + (s.path() / "none.bin").string() + " --out " + out.string(), "none.bin: no such file", 1},
+      {"falsepos codes --candidates " + (s.path() / "junk.bin").string() + " --out " + out.string(), "junk.bin", 1},
+      {"falsepos complexity --candidates x --out " + (s.path() / "nowhere").string(), "nowhere: no such directory", 2},
       {"falsepos complexity --candidates x --out " + out.string() + " --complexity 9-3", "empty range", 2},
-      {"falsepos detectors --corpus " + (s.dir / "empty").string() + " --out " + out.string(), "no images", 1},
-      {"falsepos detectors --corpus " + (s.dir / "empty").string() + " --out " + out.string() + " --detectors nonesuch",
+      {"falsepos detectors --corpus " + (s.path() / "empty").string() + " --out " + out.string(), "no images", 1},
+      {"falsepos detectors --corpus " + (s.path() / "empty").string() + " --out " + out.string() + " --detectors nonesuch",
        "unknown detector 'nonesuch'", 2},
-      {"falsepos detectors --corpus " + (s.dir / "empty").string() + " --out " + out.string() +
+      {"falsepos detectors --corpus " + (s.path() / "empty").string() + " --out " + out.string() +
            " --detectors aruco-default --families 36h15",
        "no AprilTag dictionary for '36h15'", 2},
       {"falsepos frobnicate", "unknown subcommand 'frobnicate'", 2},
   };
   for (const auto& c : cases) {
-    const auto r = run_tagbench(c.args, s.dir);
+    const auto r = run_tagbench(c.args, s.path());
     EXPECT_EQ(r.code, c.code) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << "\n" << r.err;

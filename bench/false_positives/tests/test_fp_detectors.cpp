@@ -3,7 +3,6 @@
 // file. The counts, rates and intervals must follow from the known tags; the run must not depend on
 // the number of threads.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,6 +13,7 @@
 
 #include "fp_detectors.hpp"
 #include "scenes.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tagbench;
@@ -27,15 +27,6 @@ corpus::CandidateImage image(const std::string& file, const std::string& group, 
   i.kind = kind;
   return i;
 }
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "tagbench_fpdet_XXXXXX").string();
-    path = mkdtemp(t.data());
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
 
 // Images: scene with 3 tags (still, group "s"), blank (still, "s"), noise (video, "v"), scene with
 // 2 tags (video, "v"), and a corrupt file (still, "s").
@@ -54,12 +45,12 @@ std::vector<corpus::CandidateImage> make_corpus(const fs::path& dir) {
 }  // namespace
 
 TEST(FpDetectors, CountsEveryDetectionPerImageMegapixelAndGroup) {
-  TempDir tmp;
-  const auto images = make_corpus(tmp.path);
+  tagbench::testing::ScratchDir tmp("tagbench_fpdet");
+  const auto images = make_corpus(tmp.path());
   FpDetectorsOptions o;
   o.families = {"36h11", "16h5"};
   o.jobs = 2;
-  const FpDetectorsRun run = run_fp_detectors(tmp.path, images, o);
+  const FpDetectorsRun run = run_fp_detectors(tmp.path(), images, o);
   ASSERT_EQ(run.images.size(), 5u);
   EXPECT_EQ(run.images[4].status, "unreadable");
   EXPECT_EQ(run.images[0].width, 640);
@@ -110,26 +101,26 @@ TEST(FpDetectors, CountsEveryDetectionPerImageMegapixelAndGroup) {
 }
 
 TEST(FpDetectors, TheNumberOfThreadsChangesNothing) {
-  TempDir tmp;
-  const auto images = make_corpus(tmp.path);
+  tagbench::testing::ScratchDir tmp("tagbench_fpdet");
+  const auto images = make_corpus(tmp.path());
   FpDetectorsOptions o;
   o.detectors = {"tagbench-full", "libapriltag-d2"};
   o.families = {"36h11"};
   o.jobs = 1;
-  const auto one = run_fp_detectors(tmp.path, images, o);
+  const auto one = run_fp_detectors(tmp.path(), images, o);
   o.jobs = 3;
-  const auto three = run_fp_detectors(tmp.path, images, o);
+  const auto three = run_fp_detectors(tmp.path(), images, o);
   EXPECT_EQ(fp_detections_csv(one), fp_detections_csv(three));
   EXPECT_EQ(one.images, three.images);
 }
 
 TEST(FpDetectors, RefusesUnknownDetectorsAndFamilies) {
-  TempDir tmp;
-  const auto images = make_corpus(tmp.path);
+  tagbench::testing::ScratchDir tmp("tagbench_fpdet");
+  const auto images = make_corpus(tmp.path());
   FpDetectorsOptions o;
   o.detectors = {"nonesuch"};
-  EXPECT_THROW(run_fp_detectors(tmp.path, images, o), std::invalid_argument);
+  EXPECT_THROW(run_fp_detectors(tmp.path(), images, o), std::invalid_argument);
   o.detectors = {"aruco-default"};
   o.families = {"36h15"};  // aruco has no 36h15
-  EXPECT_THROW(run_fp_detectors(tmp.path, images, o), std::invalid_argument);
+  EXPECT_THROW(run_fp_detectors(tmp.path(), images, o), std::invalid_argument);
 }

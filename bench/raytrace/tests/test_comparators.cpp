@@ -4,6 +4,7 @@
 // wrong half-pixel shift shows) and the poses match in our camera and tag frames.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -12,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "raytrace/comparators.hpp"
+#include "scenes.hpp"
 #include "raytrace/render.hpp"
 #include "test_frames.hpp"
 
@@ -27,7 +29,7 @@ struct Tolerance {
 const std::map<std::string, Tolerance> kTolerance{
     {"tagbench-full", {0.3, 1.0, 1.0}},  {"tagbench-half", {0.3, 1.0, 1.0}},
     {"libapriltag-d1", {0.5, 2.0, 2.0}}, {"libapriltag-d2", {0.5, 2.0, 2.0}},
-    {"aruco", {0.5, 2.0, 2.0}},          {"aruco-default", {0.5, 2.0, 2.0}},
+    {"aruco", {0.5, 2.0, 2.0}},
 };
 
 ComparatorSetup setup(const std::string& family, std::optional<CameraIntrinsics> camera = std::nullopt,
@@ -79,7 +81,7 @@ TEST_P(Comparators, CornersAndPoseAgreeWithTheGroundTruthInOurConventions) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(All, Comparators, ::testing::ValuesIn(known_comparator_names()),
+INSTANTIATE_TEST_SUITE_P(All, Comparators, ::testing::ValuesIn(comparator_names()),
                          [](const auto& info) {
                            std::string s = info.param;
                            for (char& c : s)
@@ -110,4 +112,35 @@ TEST(ComparatorSetup, WithoutACameraThereIsNoPoseAndBadSetupsAreRefused) {
   EXPECT_THROW(make_comparator("tagbench-full", setup("no-such-family")), std::invalid_argument);
   cv::Mat colour(10, 10, CV_8UC3);
   EXPECT_THROW(make_comparator("aruco", setup("36h11"))->run(colour), std::invalid_argument);
+}
+
+// aruco-default (CORNER_REFINE_NONE) misses the ray-traced frames' tag (one white ring cell on a
+// dark floor, NOTES), so its convention is proved on synthetic scenes instead: its corners are
+// integer-pixel contour corners, noisy by up to a pixel, but unbiased in our convention, so their
+// mean offset from the truth is near 0; the [i, i+1) shift that `aruco` needs would leave -0.5.
+TEST(ArucoDefault, CornersAreInOurConventionOnAverageAndInPrintedOrder) {
+  cv::setNumThreads(1);
+  const auto det = make_comparator("aruco-default", setup("36h11"));
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int n = 0;
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    const Scene sc = make_scene(800, 600, "36h11", 5, seed);
+    const auto out = det->run(sc.image);
+    EXPECT_GE(out.found.size(), 4u) << "seed " << seed;
+    for (const Found& f : out.found) {
+      const auto it = std::find_if(sc.tags.begin(), sc.tags.end(), [&](const SceneTag& t) { return t.id == f.id; });
+      ASSERT_NE(it, sc.tags.end()) << f.id;
+      for (std::size_t k = 0; k < 4; ++k) {
+        const Eigen::Vector2d d = f.corners[k] - it->corners[k];
+        EXPECT_LT(d.norm(), 1.5) << "seed " << seed << " id " << f.id << " corner " << k;  // printed order
+        sum += d;
+        ++n;
+      }
+    }
+  }
+  ASSERT_GT(n, 40);
+  const Eigen::Vector2d mean = sum / n;
+  std::printf("aruco-default: mean corner offset (%.3f, %.3f) px over %d corners\n", mean.x(), mean.y(), n);
+  EXPECT_LT(std::abs(mean.x()), 0.25);
+  EXPECT_LT(std::abs(mean.y()), 0.25);
 }

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "codes/families.hpp"
 #include "codes/family_io.hpp"
 
@@ -68,6 +70,8 @@ TEST(FamilyIo, BadFilesAreRefusedWithTheProblemNamed) {
   expect_error(replace(kGood, "name: mini\n", ""), "missing header key 'name'");
   expect_error(replace(kGood, "seed: 160505", "colour: blue"), "unknown header key 'colour'");
   expect_error(replace(kGood, "hamming: 5", "hamming: five"), "'hamming' is not an integer");
+  // 2^32 + 16 once wrapped to a valid 16 (found by fuzz/fuzz_family.cpp).
+  expect_error(replace(kGood, "bits: 16", "bits: 4294967312"), "'bits' is out of range: 4294967312");
   expect_error(replace(kGood, "count: 3", "count: 3\nstatus: partial"), "not a family");
 }
 
@@ -84,4 +88,48 @@ TEST(FamilyIo, HexParsing) {
   EXPECT_FALSE(parse_hex_code("1ffffffffffffffff"));
   EXPECT_FALSE(parse_hex_code("0x"));
   EXPECT_FALSE(parse_hex_code("12 34"));
+}
+
+// Checkpoints (`family generate --resume`): every error names the file on one line, and no number
+// wraps into a valid-looking one (findings of fuzz/fuzz_family.cpp; inputs in fuzz/regressions/family).
+TEST(FamilyIo, BadCheckpointsAreRefusedWithTheFileNamed) {
+  LexicodeParams p;
+  p.bits = 16;
+  p.min_hamming = 5;
+  p.min_complexity = 5;
+  LexicodeState s;
+  s.next_index = 1234;
+  s.codes = {0x231b, 0x2ea5};
+  s.elapsed_seconds = 1.5;
+  const std::string good = format_checkpoint(p, s);
+  const std::string path = ::testing::TempDir() + "/family_io_bad.ckpt";
+  const auto read = [&](const std::string& text) {
+    std::ofstream(path, std::ios::trunc) << text;
+    return read_checkpoint(path);
+  };
+  const Checkpoint ok = read(good);
+  EXPECT_EQ(ok.state.next_index, s.next_index);
+  EXPECT_DOUBLE_EQ(ok.state.elapsed_seconds, 1.5);
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {replace(good, "order: prime", "order: primes"), "unknown candidate order 'primes'"},
+      {replace(good, "bits: 16", "bits: 4294967312"), "'bits' is out of range"},
+      {replace(good, "bits: 16", "bits: 20"), "not the square of a payload width"},
+      {replace(good, "next_index: 1234", "next_index:"), "'next_index' is not an integer"},
+      {replace(good, "next_index: 1234", "next_index: 340282366920938463463374607431768211457"),
+       "'next_index' is out of range"},
+      {replace(good, "elapsed_seconds: 1500e-3", "elapsed_seconds: 1e999"), "'elapsed_seconds' is not a number"},
+      {replace(good, "elapsed_seconds: 1500e-3", "elapsed_seconds: 1e300"), "'elapsed_seconds' is not a number"},
+      {replace(good, "elapsed_seconds: 1500e-3", "elapsed_seconds: -1"), "'elapsed_seconds' is not a number"},
+  };
+  for (const auto& [text, fragment] : bad) {
+    try {
+      read(text);
+      ADD_FAILURE() << "accepted: " << fragment;
+    } catch (const std::invalid_argument& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(path + ":", 0), 0u) << msg;  // "FILE: " or "FILE:LINE: "
+      EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+  }
 }
