@@ -32,3 +32,14 @@ class ScratchDir {
 };
 
 }  // namespace tagbench::testing
+
+namespace tagbench::testing {
+
+// One scratch folder for the whole test program, made on first use and removed at exit (a static
+// ScratchDir): for tests that share files between test cases.
+inline const std::filesystem::path& program_scratch(const std::string& prefix) {
+  static const ScratchDir dir(prefix);
+  return dir.path();
+}
+
+}  // namespace tagbench::testing

@@ -18,6 +18,7 @@
 #include "codes/family_io.hpp"
 
 #include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tagbench;
@@ -31,7 +32,7 @@ std::string bin() { return TAGBENCH_BIN; }
 using tagbench::testing::slurp;
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_cli_" + std::to_string(::getpid()));
+  const fs::path d = tagbench::testing::program_scratch("tagbench_cli");
   fs::create_directories(d);
   return d / name;
 }

@@ -22,6 +22,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -34,7 +35,7 @@ using Result = tagbench::testing::CommandResult;
 using tagbench::testing::slurp;
 
 fs::path scratch_dir() {
-  const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_cli_detect_" + std::to_string(::getpid()));
+  const fs::path d = tagbench::testing::program_scratch("tagbench_cli_detect");
   fs::create_directories(d);
   return d;
 }

@@ -17,26 +17,14 @@
 
 #include "kill_run.hpp"
 #include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tagbench::testing;
 
 namespace {
 
-const fs::path& root() {
-  static const fs::path d = [] {
-    const fs::path p = fs::path(::testing::TempDir()) / ("tagbench_determinism_" + std::to_string(::getpid()));
-    fs::remove_all(p);
-    fs::create_directories(p);
-    return p;
-  }();
-  return d;
-}
-
-struct Cleanup : ::testing::Environment {
-  void TearDown() override { fs::remove_all(root()); }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new Cleanup);
+const fs::path& root() { return program_scratch("tagbench_determinism"); }
 
 CommandResult run(const std::string& args) { return run_tagbench(args, root()); }
 

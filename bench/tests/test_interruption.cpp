@@ -15,6 +15,7 @@
 
 #include "kill_run.hpp"
 #include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tagbench::testing;
@@ -22,18 +23,11 @@ using namespace tagbench::testing;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_interruption_" + std::to_string(::getpid())) / name;
+  const fs::path d = program_scratch("tagbench_interruption") / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
 }
-
-struct Cleanup : ::testing::Environment {
-  void TearDown() override {
-    fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_interruption_" + std::to_string(::getpid())));
-  }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new Cleanup);
 
 // The checkpoint's next candidate, or 0 while there is none (it is replaced atomically, so a read
 // sees a whole one).

@@ -24,6 +24,7 @@
 #include "util/atomic_file.hpp"
 
 #include "kill_run.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tagbench;
@@ -44,7 +45,7 @@ cv::Mat to_mat8(const ImageF& img) {
 
 const fs::path& corpus_dir() {
   static const fs::path d = [] {
-    const fs::path p = fs::path(::testing::TempDir()) / ("tagbench_candidates_" + std::to_string(::getpid()));
+    const fs::path p = tagbench::testing::program_scratch("tagbench_candidates") / "corpus";
     fs::remove_all(p);
     fs::create_directories(p / "sub");
     std::mt19937 rng(7);
@@ -108,20 +109,11 @@ const CandidateStore& store1() {
 
 // A folder beside the corpus (not in it: the corpus' listing must not change) for one test.
 fs::path side_dir(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_candidates_side_" + std::to_string(::getpid())) / name;
+  const fs::path d = tagbench::testing::program_scratch("tagbench_candidates") / "side" / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
 }
-
-// Removes the corpus folder after the last test.
-struct Cleanup : ::testing::Environment {
-  void TearDown() override {
-    fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_candidates_" + std::to_string(::getpid())));
-    fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_candidates_side_" + std::to_string(::getpid())));
-  }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new Cleanup);
 
 }  // namespace
 

@@ -21,6 +21,7 @@
 #include "sources.hpp"
 
 #include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tagbench::corpus;
@@ -31,25 +32,9 @@ using Result = tagbench::testing::CommandResult;
 
 using tagbench::testing::slurp;
 
-const fs::path& root() {
-  static const fs::path d = [] {
-    const fs::path p = fs::path(::testing::TempDir()) / ("tagbench_corpus_cli_" + std::to_string(::getpid()));
-    fs::remove_all(p);
-    fs::create_directories(p);
-    return p;
-  }();
-  return d;
-}
+const fs::path& root() { return tagbench::testing::program_scratch("tagbench_corpus_cli"); }
 
 Result run(const std::string& args) { return tagbench::testing::run_tagbench(args, root()); }
-
-// Removes the test folder after the last test (each ctest run is its own process and folder).
-struct Cleanup : ::testing::Environment {
-  void TearDown() override {
-    fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_corpus_cli_" + std::to_string(::getpid())));
-  }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new Cleanup);
 
 std::string png_bytes(const cv::Mat& m) {
   std::vector<unsigned char> b;

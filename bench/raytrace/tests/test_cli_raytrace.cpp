@@ -17,6 +17,7 @@
 #include "test_frames.hpp"
 
 #include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -27,7 +28,7 @@ using Result = tagbench::testing::CommandResult;
 using tagbench::testing::slurp;
 
 fs::path scratch() {
-  const fs::path d = fs::path(::testing::TempDir()) / ("tagbench_cli_raytrace_" + std::to_string(::getpid()));
+  const fs::path d = tagbench::testing::program_scratch("tagbench_cli_raytrace");
   fs::create_directories(d);
   return d;
 }

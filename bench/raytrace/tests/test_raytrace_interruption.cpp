@@ -23,6 +23,7 @@
 
 #include "kill_run.hpp"
 #include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace tagbench::testing;
@@ -31,18 +32,11 @@ namespace {
 
 fs::path scratch(const std::string& name) {
   const fs::path d =
-      fs::path(::testing::TempDir()) / ("tagbench_raytrace_interruption_" + std::to_string(::getpid())) / name;
+      program_scratch("tagbench_raytrace_interruption") / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
 }
-
-struct Cleanup : ::testing::Environment {
-  void TearDown() override {
-    fs::remove_all(fs::path(::testing::TempDir()) / ("tagbench_raytrace_interruption_" + std::to_string(::getpid())));
-  }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new Cleanup);
 
 // Six frames (two trials at three angles), three detectors: a few seconds of POV-Ray.
 const std::string kSweep = "raytrace angle --trials 2 --angles 0,30,60 --seed 5 "
