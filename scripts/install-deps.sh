@@ -13,6 +13,10 @@ PACKAGES=(
   zlib1g-dev libzstd-dev libssl-dev
   python3 python3-matplotlib
 )
+# `make fuzz` only (scripts/install-deps.sh --fuzz): clang and its runtime, which holds libFuzzer.
+if [[ "${1:-}" == "--fuzz" ]]; then
+  PACKAGES+=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

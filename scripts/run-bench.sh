@@ -43,5 +43,31 @@ RT_CACHE=$BUILD/raytrace-cache
 "$BIN" raytrace conditions --trials 50 --cache "$RT_CACHE" --out results
 "$PY" scripts/plot_raytrace.py results angle distance conditions
 
+echo "bench: detection peak memory at 640x480, 1920x1080 and 8000x8000" >&2
+# A fresh child process per measurement; making the 8000x8000 scene takes about 3 GB for a moment.
+"$BUILD/bench/detect_memory" --out results/memory.csv --sizes 640x480,1920x1080,8000x8000
+
+echo "bench: natural-image corpus from Debian packages (built once, then found) and its candidate quads" >&2
+# TAGBENCH_CORPUS: where the corpus lives (default corpus/, git-ignored; about 1 GB with the .deb cache).
+CORPUS=${TAGBENCH_CORPUS:-corpus}
+JOBS=$(nproc)
+manifest_before=$(stat -c %Y "$CORPUS/manifest.tsv" 2>/dev/null || echo none)
+t0=$(date +%s%N)
+"$BIN" corpus build --out "$CORPUS" --jobs "$JOBS"
+t1=$(date +%s%N)
+manifest_after=$(stat -c %Y "$CORPUS/manifest.tsv" 2>/dev/null || echo none)
+build_did_work=0
+[[ "$manifest_before" != "$manifest_after" ]] && build_did_work=1
+"$BIN" corpus candidates --corpus "$CORPUS" --jobs "$JOBS"
+t2=$(date +%s%N)
+"$PY" scripts/corpus_stats.py results "$CORPUS" $(((t1 - t0) / 1000000)) "$build_did_work" \
+  $(((t2 - t1) / 1000000)) "$JOBS"
+
+echo "bench: false positives on the corpus (paper Figs. 6 and 7, whole detectors)" >&2
+"$BIN" falsepos complexity --candidates "$CORPUS/corpus_candidates.bin" --out results
+"$BIN" falsepos codes --candidates "$CORPUS/corpus_candidates.bin" --out results
+"$BIN" falsepos detectors --corpus "$CORPUS" --out results --jobs "$JOBS"
+"$PY" scripts/plot_falsepos.py results
+
 "$PY" scripts/update_readme.py README.md results
 echo "bench: results/ and README.md updated" >&2

@@ -7,11 +7,20 @@
 namespace tagbench {
 namespace {
 
+// Sets the size without releasing storage: resize() keeps the capacity, so a buffer reused for
+// frames of one size is never reallocated.
+void reshape(ImageF& img, int w, int h) {
+  img.width = w;
+  img.height = h;
+  img.data.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+}
+
 // Correlates every row of src with kernel k (taps for offsets first..first+k.size()-1), sampling
 // src at x = step * X + offset for output X in [0, out_w), with clamped borders. step = 1 is a plain
-// horizontal blur, step = 2 the decimating pass of blur_and_halve.
-ImageF filter_rows(const ImageF& src, const std::vector<float>& k, int first, int step, int out_w) {
-  ImageF out(out_w, src.height);
+// horizontal blur, step = 2 the decimating pass of blur_and_halve. Every output value is written,
+// so `out` is only resized (its storage is reused when big enough).
+void filter_rows(const ImageF& src, const std::vector<float>& k, int first, int step, int out_w, ImageF& out) {
+  reshape(out, out_w, src.height);
   const int taps = static_cast<int>(k.size());
   const int w = src.width;
   // Output columns whose taps all fall inside the row need no clamping: X in [x_lo, x_hi).
@@ -34,13 +43,14 @@ ImageF filter_rows(const ImageF& src, const std::vector<float>& k, int first, in
     }
     for (int X = x_hi; X < out_w; ++X) dst[X] = clamped(X);
   }
-  return out;
 }
 
 // The vertical counterpart: output row Y combines source rows step * Y + first + t (clamped).
-// Works on whole rows at a time so the inner loop runs along contiguous memory.
-ImageF filter_cols(const ImageF& src, const std::vector<float>& k, int first, int step, int out_h) {
-  ImageF out(src.width, out_h);
+// Works on whole rows at a time so the inner loop runs along contiguous memory; it accumulates, so
+// `out` is zeroed first (a reused buffer holds the previous frame).
+void filter_cols(const ImageF& src, const std::vector<float>& k, int first, int step, int out_h, ImageF& out) {
+  reshape(out, src.width, out_h);
+  std::fill(out.data.begin(), out.data.end(), 0.0f);
   const int taps = static_cast<int>(k.size());
   const std::size_t w = static_cast<std::size_t>(src.width);
   for (int Y = 0; Y < out_h; ++Y) {
@@ -52,7 +62,6 @@ ImageF filter_cols(const ImageF& src, const std::vector<float>& k, int first, in
       for (std::size_t x = 0; x < w; ++x) dst[x] += kt * row[x];
     }
   }
-  return out;
 }
 
 // The Gaussian convolved with the 2-tap box [1/2, 1/2]: offsets -r..r+1 relative to 2X.
@@ -81,15 +90,31 @@ std::vector<float> gaussian_kernel(double sigma) {
 }
 
 ImageF gaussian_blur(const ImageF& img, double sigma) {
-  if (sigma <= 0.0 || img.empty()) return img;
+  ImageF tmp, out;
+  gaussian_blur(img, sigma, tmp, out);
+  return out;
+}
+
+void gaussian_blur(const ImageF& img, double sigma, ImageF& tmp, ImageF& out) {
+  if (sigma <= 0.0 || img.empty()) {
+    out = img;  // vector copy-assignment reuses out's storage when it is big enough
+    return;
+  }
   const std::vector<float> k = gaussian_kernel(sigma);
   const int r = gaussian_radius(sigma);
-  return filter_cols(filter_rows(img, k, -r, 1, img.width), k, -r, 1, img.height);
+  filter_rows(img, k, -r, 1, img.width, tmp);
+  filter_cols(tmp, k, -r, 1, img.height, out);
 }
 
 ImageF half_resolution(const ImageF& img) {
-  ImageF out(img.width / 2, img.height / 2);
-  if (out.empty()) return out;
+  ImageF out;
+  half_resolution(img, out);
+  return out;
+}
+
+void half_resolution(const ImageF& img, ImageF& out) {
+  reshape(out, img.width / 2, img.height / 2);
+  if (out.empty()) return;
   for (int Y = 0; Y < out.height; ++Y) {
     const float* a = &img.data[img.index(0, 2 * Y)];
     const float* b = &img.data[img.index(0, 2 * Y + 1)];
@@ -97,16 +122,21 @@ ImageF half_resolution(const ImageF& img) {
     for (int X = 0; X < out.width; ++X)
       dst[X] = 0.25f * (a[2 * X] + a[2 * X + 1] + b[2 * X] + b[2 * X + 1]);
   }
-  return out;
 }
 
 ImageF blur_and_halve(const ImageF& img, double sigma) {
-  if (sigma <= 0.0 || img.width < 2 || img.height < 2) return half_resolution(img);
+  ImageF tmp, out;
+  blur_and_halve(img, sigma, tmp, out);
+  return out;
+}
+
+void blur_and_halve(const ImageF& img, double sigma, ImageF& tmp, ImageF& out) {
+  if (sigma <= 0.0 || img.width < 2 || img.height < 2) return half_resolution(img, out);
   const int r = gaussian_radius(sigma);
   const std::vector<float> c = box_folded_kernel(gaussian_kernel(sigma));
   // Decimate along x while filtering the rows, then along y while filtering the columns.
-  const ImageF rows = filter_rows(img, c, -r, 2, img.width / 2);
-  return filter_cols(rows, c, -r, 2, img.height / 2);
+  filter_rows(img, c, -r, 2, img.width / 2, tmp);
+  filter_cols(tmp, c, -r, 2, img.height / 2, out);
 }
 
 }  // namespace tagbench

@@ -43,4 +43,12 @@ constexpr double full_from_half(double x_half) { return 2.0 * x_half + 0.5; }
 // result up to float rounding, borders included. sigma <= 0 gives half_resolution(img).
 ImageF blur_and_halve(const ImageF& img, double sigma);
 
+// The same three filters writing into caller-owned images, for the detector's workspace
+// (detector.hpp): `out` and the scratch image `tmp` are resized, which keeps their storage, so
+// frames of one size reuse it. Results are identical to the functions above. `out` and `tmp`
+// must be distinct objects and must not be `img`.
+void gaussian_blur(const ImageF& img, double sigma, ImageF& tmp, ImageF& out);
+void half_resolution(const ImageF& img, ImageF& out);
+void blur_and_halve(const ImageF& img, double sigma, ImageF& tmp, ImageF& out);
+
 }  // namespace tagbench

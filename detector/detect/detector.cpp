@@ -1,7 +1,7 @@
 #include "detect/detector.hpp"
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -43,6 +43,56 @@ Corners undistort(const Corners& c, const CameraIntrinsics& K, const std::array<
 
 }  // namespace
 
+struct DetectorWorkspace::Impl {
+  ImageF gray;             // the float image (cv::Mat input only; ImageF input is read in place)
+  cv::Mat colour;          // scaled colour image before the gray conversion
+  ImageF blur_tmp;         // horizontal pass of the blurs
+  ImageF seg_in, dec_in;   // segmentation input; optional separately blurred decoding image
+  Gradients gradients;
+  SegmentationScratch seg;
+  Clusters clusters;
+};
+
+DetectorWorkspace::DetectorWorkspace() : impl_(std::make_unique<Impl>()) {}
+DetectorWorkspace::~DetectorWorkspace() = default;
+DetectorWorkspace::DetectorWorkspace(DetectorWorkspace&&) noexcept = default;
+DetectorWorkspace& DetectorWorkspace::operator=(DetectorWorkspace&&) noexcept = default;
+
+std::vector<DetectorWorkspace::Buffer> DetectorWorkspace::buffers() const {
+  if (!impl_) return {};  // moved from
+  const Impl& w = *impl_;
+  auto of = [](const char* name, const auto& v) {
+    return Buffer{name, v.data(), v.capacity() * sizeof(v[0])};
+  };
+  return {of("gray", w.gray.data),
+          Buffer{"colour", w.colour.data, w.colour.empty() ? 0 : w.colour.total() * w.colour.elemSize()},
+          of("blur_tmp", w.blur_tmp.data),
+          of("seg_in", w.seg_in.data),
+          of("dec_in", w.dec_in.data),
+          of("gradient_mag", w.gradients.mag),
+          of("gradient_theta", w.gradients.theta),
+          of("edges", w.seg.edges),
+          of("edges_sorted", w.seg.sorted),
+          of("weight_start", w.seg.weight_start),
+          of("union_find_parent", w.seg.parent),
+          of("union_find_stats", w.seg.stats),
+          of("cluster_of", w.seg.cluster_of),
+          of("cluster_count", w.seg.count),
+          of("cluster_fill", w.seg.fill),
+          of("cluster_pixels", w.clusters.pixels),
+          of("cluster_offsets", w.clusters.offsets)};
+}
+
+std::size_t DetectorWorkspace::capacity_bytes() const {
+  std::size_t sum = 0;
+  for (const Buffer& b : buffers()) sum += b.capacity_bytes;
+  return sum;
+}
+
+void DetectorWorkspace::release() {
+  if (impl_) *impl_ = Impl();  // fresh members: the old storage is freed
+}
+
 Detector::Detector(DetectorOptions options) : opt_(std::move(options)) {
   if (opt_.families.empty()) throw std::invalid_argument("no tag family given");
   for (const auto& f : opt_.families) families_.push_back(load_family(f));
@@ -60,36 +110,73 @@ Detector::Detector(DetectorOptions options) : opt_(std::move(options)) {
     for (const double k : *opt_.distortion)
       if (!std::isfinite(k)) throw std::invalid_argument("distortion coefficients must be finite");
   }
+  if (opt_.max_pixels < 1 || opt_.max_pixels > kMaxPixelsCeiling)
+    throw std::invalid_argument("max pixels " + std::to_string(opt_.max_pixels) + " is outside 1.." +
+                                std::to_string(kMaxPixelsCeiling));
+}
+
+void Detector::check_size(long long width, long long height) const {
+  if (width * height <= opt_.max_pixels) return;
+  throw std::invalid_argument("image " + std::to_string(width) + "x" + std::to_string(height) + " (" +
+                              std::to_string(width * height) + " pixels) is over the detector's limit of " +
+                              std::to_string(opt_.max_pixels) + " pixels (DetectorOptions::max_pixels)");
 }
 
 std::vector<Detection> Detector::detect(const cv::Mat& image, DetectorTrace* trace, StageTimings* timings) const {
-  if (image.empty() || image.cols < 1 || image.rows < 1) throw std::invalid_argument("empty image");
-  if (static_cast<long long>(image.cols) * image.rows > opt_.max_pixels)
-    throw std::invalid_argument("image " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                                " is over the memory limit of " + std::to_string(opt_.max_pixels) + " pixels");
-  return detect(to_float_image(image), trace, timings);
+  DetectorWorkspace ws;
+  return detect(image, ws, trace, timings);
 }
 
 std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace, StageTimings* timings) const {
+  DetectorWorkspace ws;
+  return detect(gray, ws, trace, timings);
+}
+
+std::vector<Detection> Detector::detect(const cv::Mat& image, DetectorWorkspace& ws, DetectorTrace* trace,
+                                        StageTimings* timings) const {
+  if (image.empty() || image.cols < 1 || image.rows < 1) throw std::invalid_argument("empty image");
+  check_size(image.cols, image.rows);  // before the conversion allocates anything
+  if (!ws.impl_) ws = DetectorWorkspace();  // a moved-from workspace is usable again
+  to_float_image(image, ws.impl_->gray, ws.impl_->colour);
+  return run(ws.impl_->gray, ws, trace, timings);
+}
+
+std::vector<Detection> Detector::detect(const ImageF& gray, DetectorWorkspace& ws, DetectorTrace* trace,
+                                        StageTimings* timings) const {
   if (gray.empty()) throw std::invalid_argument("empty image");
-  if (static_cast<long long>(gray.width) * gray.height > opt_.max_pixels)
-    throw std::invalid_argument("image " + std::to_string(gray.width) + "x" + std::to_string(gray.height) +
-                                " is over the memory limit of " + std::to_string(opt_.max_pixels) + " pixels");
+  check_size(gray.width, gray.height);
+  // Every stage indexes data[y * width + x]: a short vector would be read past its end.
+  if (gray.data.size() != static_cast<std::size_t>(gray.width) * static_cast<std::size_t>(gray.height))
+    throw std::invalid_argument("image data has " + std::to_string(gray.data.size()) + " values, not " +
+                                std::to_string(gray.width) + "x" + std::to_string(gray.height));
+  if (!ws.impl_) ws = DetectorWorkspace();
+  return run(gray, ws, trace, timings);
+}
+
+std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& workspace, DetectorTrace* trace,
+                                     StageTimings* timings) const {
+  DetectorWorkspace::Impl& ws = *workspace.impl_;
   StageTimings tm;
   const auto t_start = Clock::now();
   auto t = t_start;
 
   // 1. Blur (and halve) for segmentation; the decoding image is separate.
   const bool halve = opt_.half_resolution && gray.width >= 4 && gray.height >= 4;
-  const ImageF seg_in = halve ? blur_and_halve(gray, opt_.seg_sigma) : gaussian_blur(gray, opt_.seg_sigma);
-  const ImageF dec_in = opt_.decode_sigma > 0 ? gaussian_blur(gray, opt_.decode_sigma) : ImageF();
-  const ImageF& decode_image = opt_.decode_sigma > 0 ? dec_in : gray;
+  if (halve)
+    blur_and_halve(gray, opt_.seg_sigma, ws.blur_tmp, ws.seg_in);
+  else
+    gaussian_blur(gray, opt_.seg_sigma, ws.blur_tmp, ws.seg_in);
+  const ImageF& seg_in = ws.seg_in;
+  if (opt_.decode_sigma > 0) gaussian_blur(gray, opt_.decode_sigma, ws.blur_tmp, ws.dec_in);
+  const ImageF& decode_image = opt_.decode_sigma > 0 ? ws.dec_in : gray;
   tm.blur = ms_since(t);
 
   // 2. Gradients; 3. clusters; 4. segments.
-  const Gradients g = compute_gradients(seg_in, opt_.segmentation.min_mag);
+  compute_gradients(seg_in, opt_.segmentation.min_mag, ws.gradients);
+  const Gradients& g = ws.gradients;
   tm.gradient = ms_since(t);
-  Clusters clusters = segment_clusters(g, opt_.segmentation);
+  segment_clusters(g, opt_.segmentation, ws.seg, ws.clusters);
+  const Clusters& clusters = ws.clusters;
   tm.segmentation = ms_since(t);
   std::vector<Segment> segments = fit_segments(clusters, opt_.line_fit);
   if (halve)
@@ -193,7 +280,7 @@ std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace
     trace->gradient_direction = ImageF(g.width, g.height);
     trace->gradient_magnitude.data.assign(g.mag.begin(), g.mag.end());
     trace->gradient_direction.data.assign(g.theta.begin(), g.theta.end());
-    trace->clusters = std::move(clusters);
+    trace->clusters = clusters;  // a copy: the workspace keeps its buffers
     trace->segments = std::move(segments);
     trace->quads = std::move(quads);
   }

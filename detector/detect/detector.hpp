@@ -45,9 +45,22 @@ struct DetectorOptions {
   std::optional<std::array<double, 5>> distortion;  // OpenCV's k1, k2, p1, p2, k3; corners are undistorted first
   double tag_size = 0;
   bool refine_pose = true;  // beyond the paper: minimise the corners' reprojection error, both ambiguity solutions
-  // Memory limit: images with more pixels are refused (about 60 bytes a pixel are needed at peak).
+  // Image-size limit (width x height pixels). detect() refuses a larger image with
+  // std::invalid_argument ("image WxH (N pixels) is over the detector's limit of M pixels ...")
+  // before allocating anything, so one huge input cannot exhaust memory. Detection needs about
+  // 49 bytes a pixel at full resolution and 16 with half_resolution, plus a share that grows with
+  // the scene's edge pixels (12-24 bytes per graph edge; 49-61 bytes a pixel in all on the
+  // synthetic scenes of results/memory.csv, bench/detect_memory.cpp), and 12 (BGR) or 16 (BGRA)
+  // more for colour input. So the default, 100 M pixels (10000 x 10000), means at most about
+  // 5-6 GB at full resolution. The limit bounds the detector's own memory only: the caller's image
+  // is not counted (OpenCV's imread has its own limit, OPENCV_IO_MAX_IMAGE_PIXELS, 2^30 by
+  // default). Allowed values: 1..kMaxPixelsCeiling; the constructor refuses others.
   long long max_pixels = 100'000'000;
 };
+
+// Pixel indices are 32-bit in the segmentation (graph edges, union-find), so no option can raise
+// the limit past 2^31 - 1 pixels.
+inline constexpr long long kMaxPixelsCeiling = 2'147'483'647;
 
 struct StageTimings {  // milliseconds, for the whole frame
   double blur = 0, gradient = 0, segmentation = 0, line_fit = 0, quads = 0, decode = 0, pose = 0, total = 0;
@@ -77,22 +90,67 @@ struct DetectorTrace {
   std::vector<PayloadReading> readings;  // one per quad that could be sampled
 };
 
+// The per-pixel working buffers of one detection (the float image, blur, gradients, the
+// segmentation graph and union-find, the clusters), kept from one frame to the next so that a
+// stream of images of one size is processed without reallocating them: pass the same workspace to
+// every detect() call. Buffers only grow (to the largest image seen, and for the edge lists, which
+// depend on the scene, with a quarter of headroom); release() or destroying the workspace returns
+// the memory. The Detector stays const and holds no per-call state, so thread safety is the
+// caller's by construction: one workspace per thread (a workspace must never be used by two
+// detect() calls at once), any number of threads on one Detector. The detect() overloads without a
+// workspace use a temporary one, i.e. allocate per call.
+class DetectorWorkspace {
+ public:
+  DetectorWorkspace();
+  ~DetectorWorkspace();
+  DetectorWorkspace(DetectorWorkspace&&) noexcept;
+  DetectorWorkspace& operator=(DetectorWorkspace&&) noexcept;
+  DetectorWorkspace(const DetectorWorkspace&) = delete;
+  DetectorWorkspace& operator=(const DetectorWorkspace&) = delete;
+
+  // One entry per buffer: where its storage is and how many bytes it can hold. Unchanged from one
+  // call to the next means nothing was reallocated (the tests and results/memory.csv use this).
+  struct Buffer {
+    const char* name;
+    const void* data;
+    std::size_t capacity_bytes;
+  };
+  std::vector<Buffer> buffers() const;
+  std::size_t capacity_bytes() const;  // sum over buffers()
+  void release();                      // frees every buffer
+
+ private:
+  friend class Detector;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 class Detector {
  public:
   explicit Detector(DetectorOptions options);  // throws std::invalid_argument on bad options or families
 
   // Detects tags in an 8-bit or 16-bit, gray or colour image. Const and thread-safe: any number of
-  // threads may call it at once. Throws std::invalid_argument for an empty or too large image.
+  // threads may call it at once (each with its own workspace, if any). Throws std::invalid_argument
+  // for an empty image and for one over options().max_pixels (see there).
   // `timings`, if given, receives the frame's stage timings (also when nothing is detected).
   std::vector<Detection> detect(const cv::Mat& image, DetectorTrace* trace = nullptr,
                                 StageTimings* timings = nullptr) const;
   std::vector<Detection> detect(const ImageF& gray, DetectorTrace* trace = nullptr,
+                                StageTimings* timings = nullptr) const;
+  // The same, reusing `workspace`'s buffers (see DetectorWorkspace): the results are identical.
+  std::vector<Detection> detect(const cv::Mat& image, DetectorWorkspace& workspace, DetectorTrace* trace = nullptr,
+                                StageTimings* timings = nullptr) const;
+  std::vector<Detection> detect(const ImageF& gray, DetectorWorkspace& workspace, DetectorTrace* trace = nullptr,
                                 StageTimings* timings = nullptr) const;
 
   const DetectorOptions& options() const { return opt_; }
   const std::vector<TagFamily>& families() const { return families_; }
 
  private:
+  void check_size(long long width, long long height) const;  // the max_pixels limit
+  std::vector<Detection> run(const ImageF& gray, DetectorWorkspace& ws, DetectorTrace* trace,
+                             StageTimings* timings) const;
+
   DetectorOptions opt_;
   std::vector<TagFamily> families_;
 };

@@ -7,9 +7,15 @@ namespace tagbench {
 
 Gradients compute_gradients(const ImageF& img, float theta_min_mag) {
   Gradients g;
+  compute_gradients(img, theta_min_mag, g);
+  return g;
+}
+
+void compute_gradients(const ImageF& img, float theta_min_mag, Gradients& g) {
   g.width = img.width;
   g.height = img.height;
   const std::size_t n = img.data.size();
+  // assign() zeroes the border and the skipped thetas and keeps the capacity of a reused buffer.
   g.mag.assign(n, 0.0f);
   g.theta.assign(n, 0.0f);
   constexpr float kPi = std::numbers::pi_v<float>;
@@ -31,7 +37,6 @@ Gradients compute_gradients(const ImageF& img, float theta_min_mag) {
       }
     }
   }
-  return g;
 }
 
 }  // namespace tagbench

@@ -25,5 +25,7 @@ struct Gradients {
 // (0) computes it everywhere that has a gradient; passing the segmentation's min_mag skips the
 // atan2 on flat pixels, which the segmentation never looks at.
 Gradients compute_gradients(const ImageF& img, float theta_min_mag = 0.0f);
+// The same into a caller-owned Gradients whose vectors keep their storage (the detector's workspace).
+void compute_gradients(const ImageF& img, float theta_min_mag, Gradients& out);
 
 }  // namespace tagbench

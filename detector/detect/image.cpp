@@ -1,6 +1,5 @@
 #include "detect/image.hpp"
 
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -10,6 +9,13 @@
 namespace tagbench {
 
 ImageF to_float_image(const cv::Mat& src) {
+  ImageF out;
+  cv::Mat scratch;
+  to_float_image(src, out, scratch);
+  return out;
+}
+
+void to_float_image(const cv::Mat& src, ImageF& out, cv::Mat& scratch) {
   if (src.empty()) throw std::invalid_argument("to_float_image: empty image");
   double scale = 1.0;
   switch (src.depth()) {
@@ -22,22 +28,22 @@ ImageF to_float_image(const cv::Mat& src) {
   if (channels != 1 && channels != 3 && channels != 4)
     throw std::invalid_argument("to_float_image: unsupported channel count " + std::to_string(channels));
 
+  out.width = src.cols;
+  out.height = src.rows;
+  out.data.resize(static_cast<std::size_t>(src.cols) * static_cast<std::size_t>(src.rows));
+  // A Mat header over out's storage: OpenCV's create() keeps a destination of the right size and
+  // type, so the result is written straight into `out` (no extra full-size copy).
+  cv::Mat dst(src.rows, src.cols, CV_32F, out.data.data());
   // Scale first, convert colour second, so colour images are not rounded to 8 bits on the way.
-  cv::Mat f;
-  src.convertTo(f, CV_MAKETYPE(CV_32F, channels), scale);
-  cv::Mat gray;
-  if (channels == 3)
-    cv::cvtColor(f, gray, cv::COLOR_BGR2GRAY);
-  else if (channels == 4)
-    cv::cvtColor(f, gray, cv::COLOR_BGRA2GRAY);
-  else
-    gray = f;
-
-  ImageF out(gray.cols, gray.rows);
-  const std::size_t row_bytes = static_cast<std::size_t>(gray.cols) * sizeof(float);
-  for (int y = 0; y < gray.rows; ++y)  // row by row: the Mat need not be continuous
-    std::memcpy(&out.data[out.index(0, y)], gray.ptr<float>(y), row_bytes);
-  return out;
+  if (channels == 1) {
+    src.convertTo(dst, CV_32F, scale);
+  } else {
+    src.convertTo(scratch, CV_MAKETYPE(CV_32F, channels), scale);
+    cv::cvtColor(scratch, dst, channels == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
+  }
+  // Would OpenCV ever reallocate instead, the pixels would be lost silently; refuse loudly.
+  if (dst.data != reinterpret_cast<uchar*>(out.data.data()))
+    throw std::logic_error("to_float_image: OpenCV did not write into the destination buffer");
 }
 
 }  // namespace tagbench

@@ -44,5 +44,8 @@ struct ImageF {
 // BGR->gray weights (0.299 R + 0.587 G + 0.114 B) after scaling to float, so no 8-bit rounding.
 // Throws std::invalid_argument for any other depth or channel count, and for an empty Mat.
 ImageF to_float_image(const cv::Mat& gray_or_color);
+// The same into a caller-owned image whose storage is reused (the detector's workspace); `scratch`
+// holds the scaled colour image for 3- and 4-channel input and keeps its storage too.
+void to_float_image(const cv::Mat& gray_or_color, ImageF& out, cv::Mat& scratch);
 
 }  // namespace tagbench

@@ -31,18 +31,23 @@ float angle_distance(float a, float b) {
   return d > kPi ? kTwoPi - d : d;
 }
 
-std::vector<GraphEdge> build_edges(const Gradients& g, const SegmentationOptions& opt) {
+namespace {
+
+// build_edges into `edges` (cleared). The reservation has a quarter of headroom over the worst case
+// of this frame, so a reused vector takes the next frames of a similar scene without reallocating
+// (the headroom costs address space only: pages never written are never resident).
+void build_edges_into(const Gradients& g, const SegmentationOptions& opt, std::vector<GraphEdge>& edges) {
   const int w = g.width, h = g.height;
   const float min_mag = opt.min_mag;
   const float max_cost = static_cast<float>(opt.max_edge_cost);
   const float to_weight = static_cast<float>(opt.weight_scale / opt.max_edge_cost);
   const auto max_weight = static_cast<std::uint32_t>(opt.weight_scale);
 
-  // Reserve for the worst case of the active pixels so the push_backs never reallocate.
+  // Reserve for the worst case of the active pixels (4 edges each) so the push_backs never reallocate.
   std::size_t active = 0;
   for (const float m : g.mag) active += m > min_mag;
-  std::vector<GraphEdge> edges;
-  edges.reserve(4 * active);
+  edges.clear();
+  if (edges.capacity() < 4 * active) edges.reserve(5 * active);
 
   auto try_edge = [&](std::uint32_t a, std::uint32_t b) {
     if (!(g.mag[b] > min_mag)) return;
@@ -64,12 +69,13 @@ std::vector<GraphEdge> build_edges(const Gradients& g, const SegmentationOptions
       }
     }
   }
-  return edges;
 }
 
-std::vector<GraphEdge> counting_sort_edges(const std::vector<GraphEdge>& edges, int max_weight) {
+// counting_sort_edges into `sorted`, with `start` as the histogram's storage.
+void counting_sort_into(const std::vector<GraphEdge>& edges, int max_weight, std::vector<std::size_t>& start,
+                        std::vector<GraphEdge>& sorted) {
   if (max_weight < 0) throw std::invalid_argument("counting_sort_edges: negative max_weight");
-  std::vector<std::size_t> start(static_cast<std::size_t>(max_weight) + 1, 0);
+  start.assign(static_cast<std::size_t>(max_weight) + 1, 0);
   for (const GraphEdge& e : edges) {
     if (e.weight > static_cast<std::uint32_t>(max_weight))
       throw std::invalid_argument("counting_sort_edges: weight " + std::to_string(e.weight) + " > " +
@@ -83,8 +89,24 @@ std::vector<GraphEdge> counting_sort_edges(const std::vector<GraphEdge>& edges, 
     s = sum;
     sum += c;
   }
-  std::vector<GraphEdge> sorted(edges.size());
+  if (sorted.capacity() < edges.size())  // a reused vector gets headroom like build_edges_into's
+    sorted.reserve(edges.size() + edges.size() / 4);
+  sorted.resize(edges.size());
   for (const GraphEdge& e : edges) sorted[start[e.weight]++] = e;
+}
+
+}  // namespace
+
+std::vector<GraphEdge> build_edges(const Gradients& g, const SegmentationOptions& opt) {
+  std::vector<GraphEdge> edges;
+  build_edges_into(g, opt, edges);
+  return edges;
+}
+
+std::vector<GraphEdge> counting_sort_edges(const std::vector<GraphEdge>& edges, int max_weight) {
+  std::vector<std::size_t> start;
+  std::vector<GraphEdge> sorted;
+  counting_sort_into(edges, max_weight, start, sorted);
   return sorted;
 }
 
@@ -123,14 +145,27 @@ std::optional<ComponentStats> try_union(const ComponentStats& n, const Component
 }
 
 Clusters segment_clusters(const Gradients& g, const SegmentationOptions& opt) {
+  SegmentationScratch scratch;
   Clusters out;
-  const std::size_t n = g.mag.size();
-  if (n == 0) return out;
-  const std::vector<GraphEdge> edges = counting_sort_edges(build_edges(g, opt), opt.weight_scale);
+  segment_clusters(g, opt, scratch, out);
+  return out;
+}
 
-  // Union-find; stats[r] is valid for roots r only.
-  std::vector<std::uint32_t> parent(n);
-  std::vector<ComponentStats> stats(n);
+void segment_clusters(const Gradients& g, const SegmentationOptions& opt, SegmentationScratch& scratch,
+                      Clusters& out) {
+  out.pixels.clear();
+  out.offsets.assign(1, 0);
+  const std::size_t n = g.mag.size();
+  if (n == 0) return;
+  build_edges_into(g, opt, scratch.edges);
+  counting_sort_into(scratch.edges, opt.weight_scale, scratch.weight_start, scratch.sorted);
+  const std::vector<GraphEdge>& edges = scratch.sorted;
+
+  // Union-find; stats[r] is valid for roots r only. Every entry is set below, so resize() suffices.
+  std::vector<std::uint32_t>& parent = scratch.parent;
+  std::vector<ComponentStats>& stats = scratch.stats;
+  parent.resize(n);
+  stats.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     parent[i] = static_cast<std::uint32_t>(i);
     stats[i] = ComponentStats::pixel(g.theta[i], g.mag[i]);
@@ -150,8 +185,10 @@ Clusters segment_clusters(const Gradients& g, const SegmentationOptions& opt) {
   // (Pixels at or below min_mag have no edges, so only active pixels can be in a big component;
   // the explicit test keeps them out even when min_cluster_size <= 1.)
   const auto min_size = static_cast<std::uint32_t>(std::max(1, opt.min_cluster_size));
-  std::vector<std::int32_t> cluster_of(n, -1);  // indexed by root
-  std::vector<std::size_t> count;
+  std::vector<std::int32_t>& cluster_of = scratch.cluster_of;  // indexed by root
+  cluster_of.assign(n, -1);
+  std::vector<std::size_t>& count = scratch.count;
+  count.clear();
   for (std::size_t i = 0; i < n; ++i) {
     if (!(g.mag[i] > opt.min_mag)) continue;
     const std::uint32_t r = find_root(parent, static_cast<std::uint32_t>(i));
@@ -165,7 +202,8 @@ Clusters segment_clusters(const Gradients& g, const SegmentationOptions& opt) {
   out.offsets.assign(count.size() + 1, 0);
   for (std::size_t c = 0; c < count.size(); ++c) out.offsets[c + 1] = out.offsets[c] + count[c];
   out.pixels.resize(out.offsets.back());
-  std::vector<std::size_t> fill(out.offsets.begin(), out.offsets.end() - 1);
+  std::vector<std::size_t>& fill = scratch.fill;
+  fill.assign(out.offsets.begin(), out.offsets.end() - 1);
   const int w = g.width;
   for (std::size_t i = 0; i < n; ++i) {
     if (!(g.mag[i] > opt.min_mag)) continue;
@@ -175,7 +213,6 @@ Clusters segment_clusters(const Gradients& g, const SegmentationOptions& opt) {
     const int y = static_cast<int>(i / static_cast<std::size_t>(w));
     out.pixels[fill[static_cast<std::size_t>(c)]++] = {x, y, g.mag[i], g.theta[i]};
   }
-  return out;
 }
 
 }  // namespace tagbench

@@ -100,4 +100,20 @@ struct Clusters {
 // (only pixels with mag > min_mag are ever reported).
 Clusters segment_clusters(const Gradients& g, const SegmentationOptions& opt = {});
 
+// The stage's working storage, kept between frames by the detector's workspace (detector.hpp) so
+// frames of one size are segmented without reallocating. Contents are scratch: only the capacities
+// carry over from one call to the next.
+struct SegmentationScratch {
+  std::vector<GraphEdge> edges, sorted;        // content-dependent: up to 4 per active pixel
+  std::vector<std::size_t> weight_start;       // counting sort histogram, weight_scale + 1
+  std::vector<std::uint32_t> parent;           // union-find, a node per pixel
+  std::vector<ComponentStats> stats;           // a node per pixel
+  std::vector<std::int32_t> cluster_of;        // a node per pixel
+  std::vector<std::size_t> count, fill;        // per reported cluster
+};
+
+// segment_clusters() with caller-owned storage; `out` is overwritten. Same result.
+void segment_clusters(const Gradients& g, const SegmentationOptions& opt, SegmentationScratch& scratch,
+                      Clusters& out);
+
 }  // namespace tagbench
