@@ -477,7 +477,8 @@ class Processor {
  public:
   Processor(const Settings& s, const Detector& det) : s_(s), det_(det) {}
 
-  Outcome run(Job& job) const {
+  // `ws`: the calling worker's own buffers, so a stream of frames of one size allocates them once.
+  Outcome run(Job& job, DetectorWorkspace& ws) const {
     Outcome o;
     o.label = job.label;
     o.frame_number = job.frame_number;
@@ -493,7 +494,7 @@ class Processor {
       const bool debug = s_.debug_dir.has_value();
       DetectorTrace trace;
       const auto t0 = std::chrono::steady_clock::now();
-      o.detections = det_.detect(img, debug ? &trace : nullptr);
+      o.detections = det_.detect(img, ws, debug ? &trace : nullptr);
       o.detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
       // Pictures: everything encoded first, then written (each atomically); on a failure the
@@ -763,6 +764,7 @@ class Pipeline {
   }
 
   void work() {
+    DetectorWorkspace ws;  // this worker's detection buffers, reused frame after frame
     while (true) {
       Job job;
       {
@@ -773,7 +775,7 @@ class Pipeline {
         queue_.pop_front();
       }
       const std::size_t index = job.index;
-      Outcome o = proc_.run(job);
+      Outcome o = proc_.run(job, ws);
       {
         std::lock_guard<std::mutex> lock(m_);
         done_.emplace(index, std::move(o));

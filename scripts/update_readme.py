@@ -283,11 +283,29 @@ def corpus_extraction(d):
     return table(["Stage", "Images", "Mpx", "Seconds", "Images/s", "Mpx/s", "Threads", "Measured"], body)
 
 
+def fuzz(d):
+    body = []
+    for r in rows(os.path.join(d, "fuzz_summary.csv")):
+        body.append([f'`{r["target"]}`', r["runs"], f'{int(r["seconds"]) / 60:.1f}', r["executions"],
+                     r["max_coverage"], r["crashes"]])
+    return table(["Target", "Runs", "Minutes", "Executions", "Coverage (max)", "Findings (all fixed)"], body)
+
+
+def memory(d):
+    body = []
+    for r in rows(os.path.join(d, "memory.csv")):
+        body.append([f'{r["width"]} x {r["height"]}', "half" if r["half_resolution"] == "1" else "full",
+                     r["peak_rss_mb"], r["bytes_per_pixel"], r["workspace_mb"], r["warm_frame_peak_mb"],
+                     r["detect_ms"]])
+    return table(["Image", "Resolution", "Peak MB", "Bytes/pixel", "Workspace MB", "Second frame adds, MB",
+                  "Detect ms"], body)
+
+
 BLOCKS = {"pending": pending, "speed": speed, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
           "raytrace_conditions": raytrace_conditions, "fig6_table": fig6_table, "fig7_table": fig7_table,
           "fp_detectors_table": fp_detectors_table, "fp_detectors_groups": fp_detectors_groups,
-          "corpus_groups": corpus_groups, "corpus_extraction": corpus_extraction}
+          "corpus_groups": corpus_groups, "corpus_extraction": corpus_extraction, "fuzz": fuzz, "memory": memory}
 
 
 def main():

@@ -64,7 +64,7 @@ class Ours final : public Comparator {
 
   std::vector<Found> detect(const cv::Mat& gray8) override {
     std::vector<Found> out;
-    for (const Detection& d : detector_.detect(gray8)) {
+    for (const Detection& d : detector_.detect(gray8, workspace_)) {
       Found f;
       f.family = d.family;
       f.id = d.id;
@@ -77,6 +77,7 @@ class Ours final : public Comparator {
   }
 
   Detector detector_;
+  DetectorWorkspace workspace_;  // reused frame after frame (a Comparator is one thread's)
 };
 
 // ---- libapriltag 3.3 --------------------------------------------------------------------------------
