@@ -148,8 +148,14 @@ def main():
     ap.add_argument("--seconds", type=int, default=60, help="fuzzing time per target")
     ap.add_argument("--results", default=os.path.join(ROOT, "results", "fuzz.csv"))
     ap.add_argument("--libfuzzer-arg", action="append", default=[], help="passed on to every fuzzer")
+    ap.add_argument("--summary-only", action="store_true",
+                    help="only rewrite fuzz_summary.csv from the rows of fuzz.csv")
     ap.add_argument("targets", nargs="*", help=f"default: all ({' '.join(TARGETS)})")
     a = ap.parse_args()
+    summary_path = os.path.join(os.path.dirname(a.results), "fuzz_summary.csv")
+    if a.summary_only:
+        write_atomic(summary_path, to_csv(SUMMARY_FIELDS, summary(read_rows(a.results))))
+        return 0
     if a.seconds < 1:
         sys.exit("fuzz: --seconds must be at least 1")
     targets = a.targets or TARGETS
@@ -164,10 +170,11 @@ def main():
         findings += int(row["crashes"])
         rows = read_rows(a.results) + [row]  # re-read: another run may have appended meanwhile
         write_atomic(a.results, to_csv(FIELDS, rows))
+        # The totals after every target, so an interrupted session leaves the two files consistent.
+        write_atomic(summary_path, to_csv(SUMMARY_FIELDS, summary(rows)))
         print(f"fuzz: {t}: {row['seconds']} s, {row['executions']} executions, cov {row['coverage']}, "
               f"ft {row['features']}, corpus {row['corpus']}, {row['crashes']} crashes, {row['status']}", flush=True)
     summ = summary(rows)
-    write_atomic(os.path.join(os.path.dirname(a.results), "fuzz_summary.csv"), to_csv(SUMMARY_FIELDS, summ))
     print("\nfuzz: totals over all recorded runs (results/fuzz_summary.csv)")
     print(f"{'target':<12} {'runs':>5} {'seconds':>8} {'executions':>12} {'max cov':>8} {'crashes':>8}")
     for s in summ:
