@@ -288,7 +288,7 @@ def fuzz(d):
     for r in rows(os.path.join(d, "fuzz_summary.csv")):
         body.append([f'`{r["target"]}`', r["runs"], f'{int(r["seconds"]) / 60:.1f}', r["executions"],
                      r["max_coverage"], r["crashes"]])
-    return table(["Target", "Runs", "Minutes", "Executions", "Coverage (max)", "Findings (all fixed)"], body)
+    return table(["Target", "Runs", "Minutes", "Executions", "Coverage (max)", "Runs with a finding (fixed)"], body)
 
 
 def memory(d):
