@@ -284,24 +284,10 @@ int cmd_corpus(const Words& w) {
     return w.empty() ? 2 : 0;
   }
   if (wants_help(w, kHelp)) return 0;
-  const Words rest(w.begin() + 1, w.end());
-  constexpr std::pair<const char*, int (*)(const Words&)> kSubcommands[] = {
-      {"build", corpus_build}, {"list", corpus_list}, {"candidates", corpus_candidates},
-      {"merge", corpus_merge}, {"score", corpus_score}};
-  for (const auto& [name, run] : kSubcommands) {
-    if (w[0] != name) continue;
-    // main() would prefix only "tagbench corpus: "; errors name the subcommand too, with main's exit codes.
-    try {
-      return run(rest);
-    } catch (const UsageError& e) {
-      std::fprintf(stderr, "tagbench corpus %s: %s\n", name, e.what());
-      return 2;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "tagbench corpus %s: %s\n", name, e.what());
-      return 1;
-    }
-  }
-  throw UsageError("unknown subcommand '" + w[0] + "' (build, list, candidates, merge, score)");
+  constexpr Subcommand kSubcommands[] = {{"build", corpus_build},           {"list", corpus_list},
+                                         {"candidates", corpus_candidates}, {"merge", corpus_merge},
+                                         {"score", corpus_score}};
+  return dispatch_subcommand("corpus", w, kSubcommands);
 }
 
 }  // namespace tagbench::cli

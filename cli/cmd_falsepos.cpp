@@ -254,11 +254,9 @@ int cmd_falsepos(const Words& w) {
     return w.empty() ? 2 : 0;
   }
   if (wants_help(w, kHelp)) return 0;
-  const Words rest(w.begin() + 1, w.end());
-  if (w[0] == "complexity") return falsepos_complexity(rest);
-  if (w[0] == "codes") return falsepos_codes(rest);
-  if (w[0] == "detectors") return falsepos_detectors(rest);
-  throw UsageError("unknown subcommand '" + w[0] + "' (complexity, codes, detectors)");
+  constexpr Subcommand kSubcommands[] = {
+      {"complexity", falsepos_complexity}, {"codes", falsepos_codes}, {"detectors", falsepos_detectors}};
+  return dispatch_subcommand("falsepos", w, kSubcommands);
 }
 
 }  // namespace tagbench::cli

@@ -59,6 +59,26 @@ bool wants_help(const Words& args, const char* help_text) {
     }
   return false;
 }
+
+int dispatch_subcommand(const char* command, const Words& w, std::span<const Subcommand> subs) {
+  const Words rest(w.begin() + 1, w.end());
+  std::string names;
+  for (const Subcommand& sub : subs) {
+    names += (names.empty() ? "" : ", ") + std::string(sub.name);
+    if (w[0] != sub.name) continue;
+    // main() would prefix only "tagbench COMMAND: "; errors name the subcommand too, with main's exit codes.
+    try {
+      return sub.run(rest);
+    } catch (const UsageError& e) {
+      std::fprintf(stderr, "tagbench %s %s: %s\n", command, sub.name, e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "tagbench %s %s: %s\n", command, sub.name, e.what());
+      return 1;
+    }
+  }
+  throw UsageError("unknown subcommand '" + w[0] + "' (" + names + ")");
+}
 }  // namespace tagbench::cli
 
 int main(int argc, char** argv) {
