@@ -57,14 +57,19 @@ def draw_rate(ax, ks, rate, lo, hi, floor, color, label, **kw):
                     fmt="v", mfc="none", color=color, capsize=2, ms=5)
 
 
-def fig6(results):
-    rows = read(os.path.join(results, "fig6_complexity.csv"))
-    cs = curves(rows)
+def curve_plot(results, name):
+    """The curves of a scoring CSV (all images), its quad count, the log axis' floor for zero rates
+    (a third of one quad) and a fresh figure."""
+    cs = curves(read(os.path.join(results, name)))
     if not cs:
-        sys.exit("plot_falsepos.py: fig6_complexity.csv has no rows")
+        sys.exit(f"plot_falsepos.py: {name} has no rows")
     quads = int(next(iter(cs.values()))[6])
-    floor = 0.3 / quads
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
+    return cs, quads, 0.3 / quads, fig, ax
+
+
+def fig6(results):
+    cs, quads, floor, fig, ax = curve_plot(results, "fig6_complexity.csv")
     cmap = plt.get_cmap("viridis")
     n = len(cs)
     theory_lo, theory_hi, ks_all = None, None, None
@@ -93,13 +98,7 @@ def fig6(results):
 
 
 def fig7(results):
-    rows = read(os.path.join(results, "fig7_codes.csv"))
-    cs = curves(rows)
-    if not cs:
-        sys.exit("plot_falsepos.py: fig7_codes.csv has no rows")
-    quads = int(next(iter(cs.values()))[6])
-    floor = 0.3 / quads
-    fig, ax = plt.subplots(figsize=(7.5, 5.2))
+    cs, quads, floor, fig, ax = curve_plot(results, "fig7_codes.csv")
     for i, (scheme, (ks, rate, lo, hi, th, codes, _)) in enumerate(cs.items()):
         color = f"C{i}"
         draw_rate(ax, ks, rate, lo, hi, floor, color, f"{scheme} ({codes} codes)", marker="o", ms=3, lw=1.4)
