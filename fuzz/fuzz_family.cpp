@@ -33,24 +33,6 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
-// The value of header key `key` as the file states it ("key: value", spaces around either), read
-// independently of the parser, when it is a decimal integer.
-std::optional<long long> stated(const std::string& text, const std::string& key) {
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    line = trim(line);
-    const auto colon = line.find(':');
-    if (line.empty() || line[0] == '#' || colon == std::string::npos || trim(line.substr(0, colon)) != key) continue;
-    const std::string v = trim(line.substr(colon + 1));
-    long long x = 0;
-    const auto r = std::from_chars(v.data(), v.data() + v.size(), x);
-    if (r.ec != std::errc() || r.ptr != v.data() + v.size()) return std::nullopt;
-    return x;
-  }
-  return std::nullopt;
-}
-
 // The value of `key` as the file states it, verbatim (trimmed); nullopt if absent.
 std::optional<std::string> stated_text(const std::string& text, const std::string& key) {
   std::istringstream in(text);
@@ -62,6 +44,17 @@ std::optional<std::string> stated_text(const std::string& text, const std::strin
     return trim(line.substr(colon + 1));
   }
   return std::nullopt;
+}
+
+// The value of header key `key` as the file states it ("key: value", spaces around either), read
+// independently of the parser, when it is a decimal integer.
+std::optional<long long> stated(const std::string& text, const std::string& key) {
+  const auto v = stated_text(text, key);
+  if (!v) return std::nullopt;
+  long long x = 0;
+  const auto r = std::from_chars(v->data(), v->data() + v->size(), x);
+  if (r.ec != std::errc() || r.ptr != v->data() + v->size()) return std::nullopt;
+  return x;
 }
 
 void write(const std::filesystem::path& p, const std::string& text) {
