@@ -9,6 +9,7 @@
 //     "options": {
 //       "families": ["36h11", ...],           // family names, as loaded
 //       "max_hamming": 1,                     // bits corrected at most
+//       "min_decision_margin": 0,             // detections read with a smaller margin are dropped
 //       "half_res": false,                    // segmentation at half resolution
 //       "camera": [fx, fy, cx, cy] | null,    // pixels
 //       "distortion": [k1, k2, p1, p2, k3] | null,
@@ -47,7 +48,8 @@
 //
 // CSV output (--format csv): a header row, then one row per detection:
 //   input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,
-//   tx,ty,tz,r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res
+//   tx,ty,tz,r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,
+//   min_decision_margin
 // (pose columns empty without --camera; fields quoted as RFC 4180 when needed).
 //
 // Decisions: a 1-pixel (or any tiny) image is valid input and has no detections; a missing,
@@ -104,7 +106,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
-                       [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
+                       [--min-margin M] [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
                        [--format json|csv] [--draw OUT] [--debug-dir DIR] [--threads T]
 
 Detects tags in every input and prints the detections on stdout, in input order.
@@ -113,6 +115,9 @@ Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted t
 .mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0).
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
   --max-hamming K      payload bits corrected at most, 0..16 (default 1)
+  --min-margin M       drop detections whose decision_margin is below M, 0..1 (default 0: keep all,
+                       as the paper). Beyond the paper: against false detections of small families;
+                       see results/margin_tradeoff.csv for what each M costs and saves
   --camera fx,fy,cx,cy intrinsics in pixels (fx, fy > 0; cx, cy >= 0); needs --tag-size; adds poses
   --distortion k1,k2,p1,p2[,k3]
                        OpenCV lens distortion; needs --camera (corners are undistorted for the pose)
@@ -139,7 +144,7 @@ a failed input.
 
 JSON output (one document for the whole run):
   {"tool": "tagbench detect",
-   "options": {"families": [names], "max_hamming": K, "half_res": bool,
+   "options": {"families": [names], "max_hamming": K, "min_decision_margin": M, "half_res": bool,
                "camera": [fx,fy,cx,cy] or null, "distortion": [k1,k2,p1,p2,k3] or null,
                "tag_size": metres or null},
    "images": [{"input": path or "video#frameN", "frame": N (videos only), "width": W, "height": H,
@@ -158,7 +163,7 @@ the centre, x right, y down (as printed), z into the tag; X_cam = R X_tag + t (m
 
 CSV output: a header row, then one row per detection:
   input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,
-  r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res
+  r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,min_decision_margin
 (pose columns empty without --camera).
 )";
 
@@ -316,6 +321,7 @@ Settings parse_settings(const Args& a) {
   Settings s;
   if (a.has("family")) s.det.families = a.all("family");
   s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));
+  if (const auto m = a.get("min-margin")) s.det.min_decision_margin = parse_double("--min-margin", *m, 0, 1);
   s.det.half_resolution = a.flag("half-res");
 
   std::optional<double> tag_size;
@@ -581,7 +587,7 @@ class Sink {
   void begin() {
     if (s_.csv) {
       put("input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,"
-          "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res\n");
+          "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,min_decision_margin\n");
       return;
     }
     const DetectorOptions& o = det_.options();
@@ -589,6 +595,7 @@ class Sink {
     for (std::size_t i = 0; i < det_.families().size(); ++i)
       h += (i ? ", " : "") + json_string(det_.families()[i].name());
     h += "], \"max_hamming\": " + std::to_string(o.max_hamming) +
+         ", \"min_decision_margin\": " + num(o.min_decision_margin) +
          ", \"half_res\": " + (o.half_resolution ? "true" : "false") + ", \"camera\": ";
     if (o.camera)
       h += "[" + num(o.camera->fx) + ", " + num(o.camera->fy) + ", " + num(o.camera->cx) + ", " + num(o.camera->cy) + "]";
@@ -694,6 +701,7 @@ class Sink {
       }
       f.push_back(std::to_string(det_.options().max_hamming));
       f.push_back(det_.options().half_resolution ? "1" : "0");
+      f.push_back(csv_num(det_.options().min_decision_margin));
       std::string line;
       for (std::size_t i = 0; i < f.size(); ++i) {
         if (i) line += ',';
@@ -814,6 +822,7 @@ int cmd_detect(const Words& words) {
   if (wants_help(words, kHelp)) return 0;
   const Args a(words, {{"family", true, true},
                        {"max-hamming"},
+                       {"min-margin"},
                        {"camera"},
                        {"distortion"},
                        {"tag-size"},

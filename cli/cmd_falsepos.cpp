@@ -3,6 +3,8 @@
 #include <opencv2/core.hpp>
 
 #include <chrono>
+#include <cstdlib>
+#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -11,9 +13,12 @@
 #include "candidates.hpp"
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
+#include "cli/sweep_progress.hpp"
 #include "codes/families.hpp"
 #include "fp_codes.hpp"
 #include "fp_detectors.hpp"
+#include "margin_tradeoff.hpp"
+#include "raytrace/sweeps.hpp"
 #include "util/atomic_file.hpp"
 #include "util/progress.hpp"
 #include "util/sysinfo.hpp"
@@ -24,6 +29,9 @@ namespace {
 constexpr const char* kHelp = R"(usage: tagbench falsepos complexity --candidates FILE [--out DIR] [--max-bits K] [--complexity LO-HI]
        tagbench falsepos codes --candidates FILE [--out DIR] [--max-bits K] [--family F...]
        tagbench falsepos detectors --corpus DIR [--out DIR] [--detectors LIST] [--families LIST]
+       tagbench falsepos margin --corpus DIR [--out DIR] [--families LIST] [--thresholds LIST]
+                [--trials N] [--seed S] [--distances LIST] [--conditions LIST] [--cache DIR]
+                [--processes P] [--povray PATH]
 
 The corpus holds no tags, so everything accepted is a false positive. FILE is the candidate store
 written by `tagbench corpus candidates` (every candidate quad's 4x4, 5x5 and 6x6 payload bits).
@@ -53,6 +61,25 @@ DIR/fp_detections.csv (every false detection with its image and corners) and DIR
                     tagbench-half, libapriltag-d1, aruco)
   --families LIST   comma-separated (default 16h5,25h9,36h11)
 
+margin: beyond the paper, what a minimum decision margin (tagbench detect --min-margin) buys and
+costs. Our detector (tagbench-full, margin 0) on every corpus image (false side) and on ray-traced
+frames of the same family (true side: the distance sweep of `tagbench raytrace distance`, and the
+conditions of the conditions sweep, default noise and blur); each threshold is scored from those
+detections, which is exactly what a run at that threshold gives. Writes DIR/margin_tradeoff.csv (per
+family and threshold: false detections per image with the exact Poisson interval, the share of images
+with one, and per part of the true side frames, detected, rate with its Wilson interval;
+distance_range_m: the largest distance up to which every step is detected in >= 90 % of its frames),
+DIR/margin_tradeoff_steps.csv (the rate per family, threshold, part and step) and
+DIR/margin_tradeoff.json (the settings).
+  --families LIST   comma-separated (default 16h5,25h9)
+  --thresholds LIST ascending, in 0..1 (default 0,0.05,...,0.95)
+  --trials N        ray-traced frames per step and strength (default 10; make bench uses 50)
+  --seed S          the sweeps' seed (default 1)
+  --distances LIST  the distance sweep's distances, metres (default those of tagbench raytrace
+                    distance from 3 m: 3..10 m, then 12.5..60 m; at 2 m a 16h5 tag does not fit)
+  --conditions LIST conditions of the conditions sweep (default noise,blur; "none": no conditions sweep)
+  --cache, --processes, --povray  as for tagbench raytrace
+
 Common:
   --out DIR         where the results go (default results; must exist)
   --jobs N          threads (default: all cores); results do not depend on it
@@ -77,6 +104,14 @@ std::string json_string(const std::string& s) {
     }
   }
   return o + "\"";
+}
+
+// --corpus DIR: required, an existing folder.
+std::string corpus_arg(const Args& a) {
+  const auto dir = a.get("corpus");
+  if (!dir) throw UsageError("--corpus DIR is required");
+  if (!std::filesystem::is_directory(*dir)) throw UsageError("--corpus " + *dir + ": no such directory");
+  return *dir;
 }
 
 std::filesystem::path out_dir(const Args& a) {
@@ -181,9 +216,7 @@ int falsepos_detectors(const Words& w) {
   const Args a(w, {{"corpus"}, {"out"}, {"detectors"}, {"families"}, {"jobs"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   const auto dir = out_dir(a);
-  const auto corpus_dir = a.get("corpus");
-  if (!corpus_dir) throw UsageError("--corpus DIR is required");
-  if (!std::filesystem::is_directory(*corpus_dir)) throw UsageError("--corpus " + *corpus_dir + ": no such directory");
+  const std::string corpus_dir = corpus_arg(a);
   FpDetectorsOptions o;
   o.jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
   if (auto v = a.get("detectors")) o.detectors = split_commas(*v);
@@ -198,15 +231,15 @@ int falsepos_detectors(const Words& w) {
       } catch (const std::invalid_argument& e) {
         throw UsageError(std::string("--detectors/--families: ") + e.what());
       }
-  auto images = corpus::corpus_images(*corpus_dir);
-  if (images.empty()) throw std::runtime_error(*corpus_dir + ": no images");
+  auto images = corpus::corpus_images(corpus_dir);
+  if (images.empty()) throw std::runtime_error(corpus_dir + ": no images");
   // Images run in parallel here; OpenCV's own thread pool (aruco) would only oversubscribe the cores.
   cv::setNumThreads(1);
   const auto t0 = std::chrono::steady_clock::now();
   FpDetectorsRun run;
   {
     ProgressBar bar("false positives");
-    run = run_fp_detectors(*corpus_dir, std::move(images), o, [&](const FpDetectorsProgress& p) {
+    run = run_fp_detectors(corpus_dir, std::move(images), o, [&](const FpDetectorsProgress& p) {
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const double rate = s > 0 ? static_cast<double>(p.images_done) / s : 0;
       const double left = rate > 0 ? static_cast<double>(p.images_total - p.images_done) / rate : -1;
@@ -220,7 +253,7 @@ int falsepos_detectors(const Words& w) {
   std::size_t unreadable = 0;
   for (const auto& i : run.images) unreadable += i.status != "ok";
   std::ostringstream js;
-  js << "{\n  \"command\": \"tagbench falsepos detectors\",\n  \"corpus\": " << json_string(*corpus_dir)
+  js << "{\n  \"command\": \"tagbench falsepos detectors\",\n  \"corpus\": " << json_string(corpus_dir)
      << ",\n  \"images\": " << run.images.size() << ",\n  \"images_unreadable\": " << unreadable
      << ",\n  \"detectors\": {\n"
         "    \"tagbench-full\": \"tagbench DetectorOptions defaults (sigma 0.8, 1 bit corrected, full resolution)\",\n"
@@ -246,6 +279,158 @@ int falsepos_detectors(const Words& w) {
   return 0;
 }
 
+std::string json_numbers(const std::vector<double>& v) {
+  std::string o = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", v[i]);
+    o += (i ? ", " : "") + std::string(buf);
+  }
+  return o + "]";
+}
+
+int falsepos_margin(const Words& w) {
+  const Args a(w, {{"corpus"}, {"out"}, {"families"}, {"thresholds"}, {"trials"}, {"seed"}, {"distances"}, {"conditions"},
+                   {"cache"}, {"processes"}, {"povray"}, {"jobs"}});
+  if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
+  const auto dir = out_dir(a);
+  const std::string corpus_dir = corpus_arg(a);
+  FpDetectorsOptions o;
+  o.jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
+  o.detectors = {kMarginDetector};
+  o.families = {"16h5", "25h9"};
+  if (auto v = a.get("families")) o.families = split_commas(*v);
+  if (o.families.empty()) throw UsageError("--families: empty list");
+  std::vector<double> thresholds = default_margin_thresholds();
+  if (auto v = a.get("thresholds")) {
+    thresholds.clear();
+    for (const auto& t : split_commas(*v)) thresholds.push_back(parse_double("--thresholds", t, 0, 1));
+  }
+  const int trials = static_cast<int>(a.get_int("trials", 10, 1, 100000));
+  const auto seed = static_cast<std::uint64_t>(a.get_int("seed", 1, 0, (1LL << 62)));
+  std::vector<Condition> conditions{Condition::kNoise, Condition::kBlur};
+  if (auto v = a.get("conditions")) {
+    conditions.clear();
+    if (*v != "none") try {
+        for (const auto& c : split_commas(*v)) conditions.push_back(parse_condition(c));
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--conditions: ") + e.what());
+      }
+  }
+  // Every setting is checked before any work: the sweeps' plans (family, conditions), the thresholds.
+  std::vector<std::pair<std::string, std::vector<SweepSettings>>> plans;
+  try {
+    if (thresholds.empty()) throw std::invalid_argument("--thresholds: empty list");
+    for (std::size_t i = 1; i < thresholds.size(); ++i)
+      if (!(thresholds[i] > thresholds[i - 1]))
+        throw std::invalid_argument("--thresholds: the thresholds must be ascending without repeats");
+    for (const auto& f : o.families) {
+      std::vector<SweepSettings> v;
+      SweepSettings d;
+      d.experiment = Experiment::kDistance;
+      d.trials = trials;
+      d.seed = seed;
+      d.detectors = {kMarginDetector};
+      d.family = f;
+      if (auto list = a.get("distances")) {
+        for (const auto& x : split_commas(*list)) d.steps.push_back(parse_double("--distances", x, -1e300, 1e300));
+      } else {
+        // The distance sweep's steps from 3 m: at 2 m the whole printed tag of a family with a wider
+        // white border than 36h11's (16h5: 8 cells for a 6-cell black square) may leave the image.
+        for (const double x : default_steps(Experiment::kDistance))
+          if (x >= 3) d.steps.push_back(x);
+      }
+      v.push_back(d);
+      if (!conditions.empty()) {
+        SweepSettings c = d;
+        c.experiment = Experiment::kConditions;
+        c.steps.clear();  // the conditions have their strengths
+        c.conditions = conditions;
+        v.push_back(c);
+      }
+      for (auto& s : v) {
+        s = resolve_settings(s);
+        plan_sweep(s);
+      }
+      plans.emplace_back(f, std::move(v));
+    }
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  const RenderOptions ro = render_options(a);
+  auto images = corpus::corpus_images(corpus_dir);
+  if (images.empty()) throw std::runtime_error(corpus_dir + ": no images");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  // The true side first: a missing POV-Ray fails before the long corpus run.
+  std::vector<MarginFamilySweeps> sweeps;
+  for (const auto& [family, settings] : plans) {
+    MarginFamilySweeps fs;
+    fs.family = family;
+    for (const auto& s : settings)
+      fs.sweeps.push_back(run_sweep_with_progress(s, ro, "tagbench falsepos margin",
+                                                  "margin " + family + " " + experiment_name(s.experiment)));
+    sweeps.push_back(std::move(fs));
+  }
+  cv::setNumThreads(1);
+  FpDetectorsRun run;
+  {
+    ProgressBar bar("margin: corpus");
+    const auto c0 = std::chrono::steady_clock::now();
+    run = run_fp_detectors(corpus_dir, std::move(images), o, [&](const FpDetectorsProgress& p) {
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
+      const double rate = s > 0 ? static_cast<double>(p.images_done) / s : 0;
+      bar.update(p.images_total ? static_cast<double>(p.images_done) / static_cast<double>(p.images_total) : 1.0,
+                 std::to_string(p.images_done) + "/" + std::to_string(p.images_total),
+                 std::to_string(p.detections) + " detections",
+                 rate > 0 ? static_cast<double>(p.images_total - p.images_done) / rate : -1);
+    });
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  MarginTradeoff t;
+  try {
+    t = margin_tradeoff(run, sweeps, thresholds);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  std::size_t unreadable = 0, failed_frames = 0;
+  for (const auto& i : run.images) unreadable += i.status != "ok";
+  std::ostringstream js;
+  js << "{\n  \"command\": \"tagbench falsepos margin\",\n  \"corpus\": " << json_string(corpus_dir)
+     << ",\n  \"images\": " << run.images.size() << ",\n  \"images_unreadable\": " << unreadable
+     << ",\n  \"detector\": \"" << kMarginDetector
+     << "\",\n  \"detector_settings\": \"tagbench DetectorOptions defaults (sigma 0.8, 1 bit corrected, full "
+        "resolution), min_decision_margin 0; thresholds applied to the final detections\",\n  \"families\": [";
+  for (std::size_t i = 0; i < o.families.size(); ++i) js << (i ? ", " : "") << json_string(o.families[i]);
+  js << "],\n  \"thresholds\": " << json_numbers(thresholds) << ",\n  \"sweeps\": [\n";
+  bool first = true;
+  for (const auto& fs : sweeps)
+    for (const auto& r : fs.sweeps) {
+      failed_frames += r.failed.size();
+      std::string conds;
+      for (const auto c : r.settings.conditions) conds += (conds.empty() ? "\"" : ", \"") + std::string(condition_name(c)) + "\"";
+      js << (first ? "" : ",\n") << "    {\"family\": " << json_string(fs.family) << ", \"experiment\": \""
+         << experiment_name(r.settings.experiment) << "\", \"conditions\": [" << conds
+         << "], \"trials\": " << r.settings.trials << ", \"seed\": " << r.settings.seed
+         << ", \"tag_size_m\": " << *r.settings.tag_size << ", \"steps\": " << json_numbers(r.settings.steps)
+         << ", \"frames\": " << r.frames.size() << ", \"failed_frames\": " << r.failed.size() << "}";
+      first = false;
+    }
+  js << "\n  ],\n  \"range_rule\": \"distance_range_m: the largest distance up to which every distance step is "
+        "detected in at least 90 % of its frames\",\n  \"jobs\": "
+     << o.jobs << ",\n  \"wall_seconds\": " << secs << ",\n  \"cpu\": " << json_string(cpu_model_name()) << "\n}\n";
+  write_files_atomic({{dir / "margin_tradeoff.csv", margin_summary_csv(t)},
+                      {dir / "margin_tradeoff_steps.csv", margin_steps_csv(t)},
+                      {dir / "margin_tradeoff.json", js.str()}});
+  std::fprintf(stderr,
+               "tagbench falsepos margin: %zu images (%zu unreadable), %zu false detections at margin 0, %zu "
+               "thresholds, %zu ray-traced frames not rendered, %.1f s; wrote margin_tradeoff.csv, "
+               "margin_tradeoff_steps.csv, margin_tradeoff.json in %s\n",
+               run.images.size(), unreadable, run.detections.size(), thresholds.size(), failed_frames, secs,
+               dir.string().c_str());
+  return 0;
+}
+
 }  // namespace
 
 int cmd_falsepos(const Words& w) {
@@ -255,7 +440,10 @@ int cmd_falsepos(const Words& w) {
   }
   if (wants_help(w, kHelp)) return 0;
   constexpr Subcommand kSubcommands[] = {
-      {"complexity", falsepos_complexity}, {"codes", falsepos_codes}, {"detectors", falsepos_detectors}};
+      {"complexity", falsepos_complexity},
+      {"codes", falsepos_codes},
+      {"detectors", falsepos_detectors},
+      {"margin", falsepos_margin}};
   return dispatch_subcommand("falsepos", w, kSubcommands);
 }
 

@@ -11,9 +11,9 @@
 
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
+#include "cli/sweep_progress.hpp"
 #include "raytrace/sweeps.hpp"
 #include "util/atomic_file.hpp"
-#include "util/progress.hpp"
 #include "util/sysinfo.hpp"
 
 namespace tagbench::cli {
@@ -21,12 +21,12 @@ namespace tagbench::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: tagbench raytrace angle|distance|conditions [--trials N] [--tag-size M] [--seed S]
-           [--detectors LIST] [--scene plain|realistic] [--distance D] [--angles LIST] [--distances LIST]
+           [--detectors LIST] [--family F] [--scene plain|realistic] [--distance D] [--angles LIST] [--distances LIST]
            [--conditions LIST] [--processes P] [--cache DIR] [--povray PATH] [--out DIR]
 
 The localization experiments of the paper's section VI-B on ray-traced frames: POV-Ray 3.7, a pinhole
 camera of 400 x 400 pixels with f = 400 px as in the paper, a 36h11 tag (the family all five detectors
-know) with random id. Every selected detector runs on every frame, one thread, and is scored against
+know; --family for another) with random id. Every selected detector runs on every frame, one thread, and is scored against
 the frame's ground truth in our conventions.
 
   angle        Fig. 9. The tag at a fixed distance (--distance, default 1 m: the default 0.166 m black
@@ -58,6 +58,8 @@ Options:
   --detectors LIST    comma-separated (default all five): tagbench-full, tagbench-half (ours at full and
                       half resolution), libapriltag-d1, libapriltag-d2 (AprilTag 3.3, quad_decimate 1
                       and 2), aruco (OpenCV 4.6, DICT_APRILTAG_36h11, CORNER_REFINE_APRILTAG)
+  --family F          the tag family (default 36h11; libapriltag and aruco also know 16h5, 25h9,
+                      36h10; ours any built-in family or family file)
   --scene NAME        plain (default: a self-lit tag on uniform grey) or realistic (a light, a brick wall
                       and a checkered floor)
   --distance D        angle and conditions: the fixed distance, metres (default 1)
@@ -76,7 +78,8 @@ Writes into DIR, for angle / distance / conditions:
       family, tag_size_m, distance_m, phi_deg, tilt_axis_deg, roll_deg, image_x, image_y,
       black_square_px, detector, detected_right_id, wrong_id, orientation_error_deg (the angle of
       R_est^T R_true), distance_error_m and distance_error_percent (| |t_est| - |t_true| |),
-      corner_rms_px, ms (empty errors: not detected)
+      corner_rms_px, decision_margin (of the right-id detection: ours 0..1, libapriltag on its own
+      scale, aruco none), ms (empty errors: not detected)
   *_summary.csv  per step (or condition and strength) and detector: detection rate with its Wilson 95 %
       interval, frames with a wrong id, median, 10th and 90th percentile of the errors, median time
   *.json         the settings, the conditions' definitions, the render report and any failed frames
@@ -105,25 +108,11 @@ std::vector<double> number_list(const std::string& option, const std::string& s)
   return v;
 }
 
-std::filesystem::path default_cache() {
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::filesystem::path(x) / "tagbench" / "raytrace";
-  if (const char* h = std::getenv("HOME"); h && *h) return std::filesystem::path(h) / ".cache" / "tagbench" / "raytrace";
-  return std::filesystem::temp_directory_path() / "tagbench-raytrace-cache";
-}
-
-std::string describe(const SweepFrame& f, Experiment e) {
-  char buf[160];
-  if (e == Experiment::kAngle) std::snprintf(buf, sizeof buf, "phi %g deg, trial %d", f.step, f.trial);
-  else if (e == Experiment::kDistance) std::snprintf(buf, sizeof buf, "distance %g m, trial %d", f.step, f.trial);
-  else std::snprintf(buf, sizeof buf, "%s %g, trial %d", condition_name(f.condition), f.step, f.trial);
-  return buf;
-}
-
 }  // namespace
 
 int cmd_raytrace(const Words& w) {
   if (wants_help(w, kHelp)) return 0;
-  const Args a(w, {{"trials"}, {"tag-size"}, {"seed"}, {"detectors"}, {"scene"}, {"distance"}, {"angles"},
+  const Args a(w, {{"trials"}, {"tag-size"}, {"seed"}, {"detectors"}, {"family"}, {"scene"}, {"distance"}, {"angles"},
                    {"distances"}, {"conditions"}, {"processes"}, {"cache"}, {"povray"}, {"out"}});
   if (a.positionals().empty()) throw UsageError("which experiment? angle, distance or conditions");
   if (a.positionals().size() > 1) throw UsageError("unexpected argument '" + a.positionals()[1] + "'");
@@ -138,6 +127,7 @@ int cmd_raytrace(const Words& w) {
   if (a.has("tag-size")) s.tag_size = parse_double("--tag-size", *a.get("tag-size"), -1e300, 1e300);
   if (a.has("seed")) s.seed = static_cast<std::uint64_t>(parse_int("--seed", *a.get("seed"), 0, (1LL << 62)));
   if (a.has("detectors")) s.detectors = split_list("--detectors", *a.get("detectors"));
+  if (a.has("family")) s.family = *a.get("family");
   if (a.has("distance")) {
     if (s.experiment == Experiment::kDistance) throw UsageError("--distance: the distance sweep takes --distances");
     s.distance = parse_double("--distance", *a.get("distance"), -1e300, 1e300);
@@ -161,11 +151,7 @@ int cmd_raytrace(const Words& w) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  RenderOptions ro;
-  ro.processes = static_cast<int>(a.get_int("processes", 0, 1, 256));
-  ro.cache_dir = a.has("cache") ? std::filesystem::path(*a.get("cache")) : default_cache();
-  ro.povray = a.get_or("povray", "povray");
-  ro.max_frames_per_process = 50;
+  const RenderOptions ro = render_options(a);
   const std::filesystem::path out = a.get_or("out", "results");
   // Refused before any rendering: an --out that is, or would lie under, something other than a folder.
   for (std::filesystem::path p = out; !p.empty(); p = p.parent_path()) {
@@ -178,44 +164,8 @@ int cmd_raytrace(const Words& w) {
     if (p == p.parent_path()) break;
   }
 
-  std::optional<ProgressBar> bar;
-  SweepProgress progress;
-  auto phase_start = std::chrono::steady_clock::now();
-  const auto update = [&](const char* phase, const std::string& detail, std::size_t done, std::size_t total) {
-    if (!bar) {
-      bar.emplace("raytrace " + exp + ": " + phase);
-      phase_start = std::chrono::steady_clock::now();
-    }
-    const double frac = total ? static_cast<double>(done) / static_cast<double>(total) : 1.0;
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - phase_start).count();
-    bar->update(frac, std::to_string(done) + "/" + std::to_string(total) + " frames", detail,
-                frac > 0 ? el / frac * (1 - frac) : -1);
-  };
-  char render_detail[64], detect_detail[64];
-  std::snprintf(render_detail, sizeof render_detail, "(%d povray processes)",
-                ro.processes > 0 ? ro.processes : hardware_threads());
-  std::snprintf(detect_detail, sizeof detect_detail, "(%zu detectors, one thread)", s.detectors.size());
-  progress.render = [&](std::size_t done, std::size_t total) { update("rendering", render_detail, done, total); };
-  constexpr std::size_t kFailuresShown = 10;  // one line each; the rest are counted (all are in the JSON)
-  std::size_t failures = 0;
-  progress.failed = [&](const SweepFrame& f, const std::string& error) {
-    bar.reset();
-    if (++failures <= kFailuresShown)
-      std::fprintf(stderr, "tagbench raytrace: frame not rendered (%s): %s\n", describe(f, s.experiment).c_str(),
-                   error.c_str());
-  };
-  bool detecting = false;
-  progress.detect = [&](std::size_t done, std::size_t total) {
-    if (!detecting) bar.reset();  // the render bar ends; the detection bar starts
-    detecting = true;
-    update("detecting", detect_detail, done, total);
-  };
-  const SweepResult r = run_sweep(s, ro, progress);
-  bar.reset();
+  const SweepResult r = run_sweep_with_progress(s, ro, "tagbench raytrace", "raytrace " + exp);
 
-  if (failures > kFailuresShown)
-    std::fprintf(stderr, "tagbench raytrace: %zu more frames not rendered (listed in the JSON sidecar)\n",
-                 failures - kFailuresShown);
   const std::string stem = result_stem(s.experiment);
   const bool made_out = std::filesystem::create_directories(out);
   remove_stale_temporaries(out);  // of a run killed while it wrote these files

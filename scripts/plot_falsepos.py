@@ -3,8 +3,10 @@
   fig6_complexity.png  from fig6_complexity.csv: 25h9 families of minimum complexity 1..10 (Fig. 6)
   fig7_codes.png       from fig7_codes.csv: ARToolKit+ simple/BCH, ARTag, 36h10, 36h15, 36h11 (Fig. 7)
   fp_detectors.png     from fp_detectors.csv: whole detectors' false detections per megapixel
+  margin_tradeoff.png  from margin_tradeoff.csv and margin_tradeoff_steps.csv: a minimum decision
+                       margin against false detections per image and ray-traced detection rates
 Each rate is drawn with its 95 % confidence interval; a rate of 0 is drawn at the bottom of the
-log axis with its interval's upper bound. Usage: plot_falsepos.py RESULTS_DIR [fig6] [fig7] [detectors]
+log axis with its interval's upper bound. Usage: plot_falsepos.py RESULTS_DIR [fig6] [fig7] [detectors] [margin]
 (default: every plot whose CSV exists). PNGs are written atomically."""
 import csv
 import os
@@ -160,13 +162,71 @@ def detectors(results):
     save(fig, os.path.join(results, "fp_detectors.png"))
 
 
+def margin(results):
+    rows = read(os.path.join(results, "margin_tradeoff.csv"))
+    steps = read(os.path.join(results, "margin_tradeoff_steps.csv"))
+    if not rows:
+        sys.exit("plot_falsepos.py: margin_tradeoff.csv has no rows")
+    fams = list(OrderedDict.fromkeys(r["family"] for r in rows))
+    parts = [k[:-len("_frames")] for k in rows[0] if k.endswith("_frames")]
+    fig, axes = plt.subplots(2, len(fams), figsize=(5.6 * len(fams), 8.4), squeeze=False)
+    images = int(rows[0]["images"])
+    floor = 0.3 / images
+    for col, fam in enumerate(fams):
+        fr = [r for r in rows if r["family"] == fam]
+        th = [float(r["threshold"]) for r in fr]
+        ax = axes[0][col]
+        fp = [float(r["fp_per_image"]) for r in fr]
+        fp_hi = [float(r["fp_per_image_ci95_hi"]) for r in fr]
+        draw_rate(ax, th, fp, [float(r["fp_per_image_ci95_lo"]) for r in fr], fp_hi, floor, "C3",
+                  "false detections per image", marker="o", ms=3, lw=1.4)
+        ax.set_yscale("log")
+        ax.set_ylim(floor / 2, max(fp_hi) * 3)
+        ax.set_xlabel("minimum decision margin")
+        ax.set_ylabel("false detections per corpus image (95 % exact Poisson)", color="C3")
+        ax.grid(True, which="both", alpha=0.3)
+        ax2 = ax.twinx()
+        for i, p in enumerate(parts):
+            rate = [float(r[p + "_rate"]) for r in fr]
+            ax2.plot(th, rate, color=f"C{i}", marker=".", lw=1.2, label=f"ray-traced {p}: detection rate")
+            ax2.fill_between(th, [float(r[p + "_rate_ci95_lo"]) for r in fr],
+                             [float(r[p + "_rate_ci95_hi"]) for r in fr], color=f"C{i}", alpha=0.08, lw=0)
+        ax2.set_ylim(0, 1.02)
+        ax2.set_ylabel("detection rate of real tags (95 % Wilson)")
+        h1, l1 = ax.get_legend_handles_labels()
+        h2, l2 = ax2.get_legend_handles_labels()
+        ax2.legend(h1 + h2, l1 + l2, fontsize=7, loc="center left")
+        ax.set_title(f"{fam}: {images} corpus images; ray-traced frames of {fam}", fontsize=10)
+        # Below: the distance sweep's rate per distance at a few thresholds.
+        ax = axes[1][col]
+        shown = [t for t in sorted(set(th)) if round(t * 20) % 4 == 0]  # 0, 0.2, 0.4, ... when present
+        cmap = plt.get_cmap("viridis")
+        for i, t in enumerate(shown):
+            st = [s for s in steps if s["family"] == fam and s["part"] == "distance" and float(s["threshold"]) == t]
+            if not st:
+                continue
+            ax.plot([float(s["step"]) for s in st], [float(s["rate"]) for s in st], marker=".", lw=1.2,
+                    color=cmap(i / max(1, len(shown) - 1)), label=f"margin >= {t:g}")
+        ax.set_xlabel("distance (m; 1 m black square, 400 px focal length)")
+        ax.set_ylabel("detection rate")
+        ax.set_ylim(0, 1.02)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+        ax.set_title(f"{fam}: distance sweep by minimum margin", fontsize=10)
+    fig.suptitle("A minimum decision margin (beyond the paper): false detections saved, real detections lost",
+                 fontsize=11)
+    fig.tight_layout()
+    save(fig, os.path.join(results, "margin_tradeoff.png"))
+
+
 def main():
     results = sys.argv[1] if len(sys.argv) > 1 else "results"
     which = sys.argv[2:] or [w for w, f in (("fig6", "fig6_complexity.csv"), ("fig7", "fig7_codes.csv"),
-                                            ("detectors", "fp_detectors.csv"))
+                                            ("detectors", "fp_detectors.csv"),
+                                            ("margin", "margin_tradeoff.csv"))
                              if os.path.exists(os.path.join(results, f))]
     for w in which:
-        {"fig6": fig6, "fig7": fig7, "detectors": detectors}[w](results)
+        {"fig6": fig6, "fig7": fig7, "detectors": detectors, "margin": margin}[w](results)
 
 
 if __name__ == "__main__":

@@ -301,11 +301,71 @@ def memory(d):
                   "Detect ms"], body)
 
 
+def margin_table(d):
+    """Per family, a minimum decision margin every 0.1: false detections on the corpus against the
+    ray-traced detection rates (results/margin_tradeoff.csv)."""
+    rs = rows(os.path.join(d, "margin_tradeoff.csv"))
+    parts = [k[:-len("_frames")] for k in rs[0] if k.endswith("_frames")] if rs else []
+    body = []
+    for r in rs:
+        t = float(r["threshold"])
+        if abs(t * 10 - round(t * 10)) > 1e-9:
+            continue
+        cells = [r["family"], f"{t:g}",
+                 f'{_g(r["fp_per_image"])} ({r["false_detections"]}; {_g(r["fp_per_image_ci95_lo"])}-'
+                 f'{_g(r["fp_per_image_ci95_hi"])})',
+                 f'{100 * float(r["image_share"]):.2g} % ({r["images_with_false"]})']
+        for p in parts:
+            cells.append(f'{100 * float(r[p + "_rate"]):.1f} % ({r[p + "_detected"]} of {r[p + "_frames"]})')
+        if "distance_range_m" in r:
+            cells.append(f'{_g(r["distance_range_m"])} m')
+        body.append(cells)
+    head = ["Family", "Min margin", "False per image (count; 95 %)", "Images with one"]
+    head += [f"Ray-traced {p}: detected" for p in parts]
+    if rs and "distance_range_m" in rs[0]:
+        head.append("Range (>= 90 % at every step)")
+    return table(head, body)
+
+
+def margin_findings(d):
+    """Per family: the largest threshold that costs at most 1 % of any part's real detections (against
+    margin 0), and what it saves; from results/margin_tradeoff.csv."""
+    rs = rows(os.path.join(d, "margin_tradeoff.csv"))
+    parts = [k[:-len("_frames")] for k in rs[0] if k.endswith("_frames")] if rs else []
+    out = []
+    for fam in dict.fromkeys(r["family"] for r in rs):
+        fr = [r for r in rs if r["family"] == fam]
+        base = fr[0]
+        if float(base["threshold"]) != 0:
+            continue
+        free = base
+        for r in fr:
+            lost = [(int(base[p + "_detected"]) - int(r[p + "_detected"])) / max(1, int(base[p + "_frames"]))
+                    for p in parts]
+            if max(lost) <= 0.01:
+                free = r
+            else:
+                break
+        f0, f1 = int(base["false_detections"]), int(free["false_detections"])
+        fp_text = (f'It removes {100 * (f0 - f1) / f0:.0f} % of the false detections ({_g(base["fp_per_image"])} -> '
+                   f'{_g(free["fp_per_image"])} per image, images with one {100 * float(base["image_share"]):.0f} -> '
+                   f'{100 * float(free["image_share"]):.0f} %)' if f0 else
+                   "There are no false detections to remove at margin 0 on this corpus")
+        rates = ", ".join(f'{p} {100 * float(base[p + "_rate"]):.1f} -> {100 * float(free[p + "_rate"]):.1f} %'
+                          for p in parts)
+        rng = (f'; range {_g(base["distance_range_m"])} -> {_g(free["distance_range_m"])} m'
+               if "distance_range_m" in base else "")
+        out.append(f'- **{fam}**: the largest threshold that loses at most 1 % of the real detections of every '
+                   f'part is {float(free["threshold"]):g}. {fp_text}; real tags detected: {rates}{rng}.')
+    return "\n".join(out)
+
+
 BLOCKS = {"pending": pending, "speed": speed, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
           "raytrace_conditions": raytrace_conditions, "fig6_table": fig6_table, "fig7_table": fig7_table,
           "fp_detectors_table": fp_detectors_table, "fp_detectors_groups": fp_detectors_groups,
-          "corpus_groups": corpus_groups, "corpus_extraction": corpus_extraction, "fuzz": fuzz, "memory": memory}
+          "corpus_groups": corpus_groups, "corpus_extraction": corpus_extraction, "fuzz": fuzz, "memory": memory,
+          "margin_table": margin_table, "margin_findings": margin_findings}
 
 
 def main():

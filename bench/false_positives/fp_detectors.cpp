@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -86,6 +87,7 @@ FpDetectorsRun run_fp_detectors(const std::filesystem::path& dir, std::vector<co
               fd.family = options.families[p % options.families.size()];
               fd.id = f.id;
               fd.hamming = f.hamming;
+              fd.decision_margin = f.decision_margin;
               fd.corners = f.corners;
               r.detections.push_back(std::move(fd));
             }
@@ -218,12 +220,14 @@ std::string quoted(const std::string& s) {
 std::string fp_detections_csv(const FpDetectorsRun& run) {
   std::ostringstream o;
   o.precision(7);
-  o << "file,group,kind,detector,family,id,hamming,x0,y0,x1,y1,x2,y2,x3,y3\n";
+  o << "file,group,kind,detector,family,id,hamming,x0,y0,x1,y1,x2,y2,x3,y3,decision_margin\n";
   for (const auto& d : run.detections) {
     const auto& im = run.images[d.image];
     o << quoted(im.file) << ',' << quoted(im.group) << ',' << im.kind << ',' << d.detector << ',' << d.family << ','
       << d.id << ',' << d.hamming;
     for (const auto& c : d.corners) o << ',' << c.x() << ',' << c.y();
+    o << ',';
+    if (!std::isnan(d.decision_margin)) o << d.decision_margin;
     o << '\n';
   }
   return o.str();

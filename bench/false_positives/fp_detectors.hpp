@@ -28,6 +28,7 @@ struct FalseDetection {
   std::uint32_t image = 0;  // index into FpDetectorsRun::images
   std::string detector, family;
   int id = -1, hamming = -1;  // -1: the detector does not say
+  double decision_margin = 0; // Found::decision_margin (NaN: the detector does not say)
   Corners corners;            // printed TL, TR, BR, BL, pixel centres at integers
 };
 
@@ -65,7 +66,8 @@ struct FpDetectorRow {
 std::vector<FpDetectorRow> fp_detector_rows(const FpDetectorsRun& run);
 
 std::string fp_detectors_csv(const std::vector<FpDetectorRow>& rows);
-// One row per false detection: image file, group, kind, detector, family, id, hamming, corners.
+// One row per false detection: image file, group, kind, detector, family, id, hamming, corners,
+// decision_margin (empty when the detector does not report one).
 std::string fp_detections_csv(const FpDetectorsRun& run);
 
 }  // namespace tagbench

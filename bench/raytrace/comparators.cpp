@@ -69,6 +69,7 @@ class Ours final : public Comparator {
       f.family = d.family;
       f.id = d.id;
       f.hamming = d.hamming;
+      f.decision_margin = d.decision_margin;
       f.corners = d.corners;
       if (d.pose) f.pose = d.pose->pose;
       out.push_back(std::move(f));
@@ -124,6 +125,7 @@ class LibAprilTag final : public Comparator {
       f.family = family_name_;
       f.id = det->id;
       f.hamming = det->hamming;
+      f.decision_margin = det->decision_margin;
       // Its p[0..3] are the printed BL, BR, TR, TL, in "pixel i covers [i, i+1)".
       for (int k = 0; k < 4; ++k)
         f.corners[static_cast<std::size_t>(k)] = Eigen::Vector2d(det->p[3 - k][0] - 0.5, det->p[3 - k][1] - 0.5);

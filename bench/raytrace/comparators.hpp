@@ -30,6 +30,7 @@
 //     marker's right, y toward its top, z out of the face; with the 180-degree turn, X_aruco =
 //     diag(-1, 1, -1) X_ours, so R_ours = R_aruco diag(-1, 1, -1) and t is the same point (the centre).
 #include <array>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,6 +50,11 @@ struct Found {
   std::string family;
   int id = -1;
   int hamming = -1;           // bits corrected; -1 when the detector does not report it (aruco: exact matches only)
+  // How clearly the payload was read; NaN when the detector does not say (aruco). The scales differ:
+  // ours is Detection::decision_margin (0 = a cell on its threshold, 1 = every cell clear; the
+  // minimum over the cells), libapriltag's is its own decision_margin (apriltag.h: the average
+  // difference between a data bit's intensity and the decision threshold, on its own scale).
+  double decision_margin = std::numeric_limits<double>::quiet_NaN();
   Corners corners;            // our convention (above)
   std::optional<Pose> pose;   // our frames; when the camera and the tag size were given
 };

@@ -32,6 +32,12 @@
 
 namespace tagbench {
 
+std::filesystem::path default_render_cache() {
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::filesystem::path(x) / "tagbench" / "raytrace";
+  if (const char* h = std::getenv("HOME"); h && *h) return std::filesystem::path(h) / ".cache" / "tagbench" / "raytrace";
+  return std::filesystem::temp_directory_path() / "tagbench-raytrace-cache";
+}
+
 extern const char kScene_plain[];
 extern const char kScene_realistic[];
 

@@ -76,6 +76,10 @@ struct GroundTruth {
 };
 GroundTruth ground_truth(const FramePose& frame);
 
+// The frame cache the commands use unless told otherwise: $XDG_CACHE_HOME/tagbench/raytrace, else
+// ~/.cache/tagbench/raytrace, else a folder under the system's temporary directory.
+std::filesystem::path default_render_cache();
+
 struct RenderOptions {
   std::filesystem::path cache_dir;  // created when missing; flat (POV-Ray only reads and writes its working directory)
   std::string povray = "povray";    // the executable: a name looked up in PATH, or a path

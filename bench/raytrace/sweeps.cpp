@@ -176,6 +176,7 @@ SweepRow row_of(const DetectorOutput& out, const std::string& detector, std::siz
   r.detector = detector;
   r.ms = out.ms;
   r.orientation_error_deg = r.distance_error_m = r.distance_error_percent = r.corner_rms_px = kNaN;
+  r.decision_margin = kNaN;
   const auto short_family = [](const std::string& n) { return n.rfind("tag", 0) == 0 ? n.substr(3) : n; };
   const Found* best = nullptr;
   FoundErrors best_e;
@@ -196,6 +197,7 @@ SweepRow row_of(const DetectorOutput& out, const std::string& detector, std::siz
     r.orientation_error_deg = best_e.orientation_deg;
     r.distance_error_m = best_e.distance_m;
     r.distance_error_percent = best_e.distance_percent;
+    r.decision_margin = best->decision_margin;
   }
   return r;
 }
@@ -362,6 +364,11 @@ SweepSettings resolve_settings(const SweepSettings& in) {
     if (!seen.insert(d).second) throw std::invalid_argument("detector '" + d + "' given twice");
   }
   load_family(s.family);  // an unknown family fails here
+  for (const auto& d : s.detectors) {  // and one a detector does not know ("libapriltag has no family ...")
+    ComparatorSetup setup;
+    setup.family = s.family;
+    make_comparator(d, setup);
+  }
   if (s.experiment == Experiment::kConditions) {
     if (!s.steps.empty())
       throw std::invalid_argument(what + "takes no steps (each condition has its strengths; choose conditions)");
@@ -708,7 +715,7 @@ std::string rows_csv(const SweepResult& r) {
   std::string o =
       "experiment,condition,step,step_unit,trial,seed,id,scene,family,tag_size_m,distance_m,phi_deg,tilt_axis_deg,"
       "roll_deg,image_x,image_y,black_square_px,detector,detected_right_id,wrong_id,orientation_error_deg,"
-      "distance_error_m,distance_error_percent,corner_rms_px,ms\n";
+      "distance_error_m,distance_error_percent,corner_rms_px,decision_margin,ms\n";
   for (const SweepRow& row : r.rows) {
     const SweepFrame& f = r.frames[row.frame];
     o += std::string(experiment_name(s.experiment)) + "," + condition_name(f.condition) + "," + num(f.step) + "," +
@@ -719,7 +726,8 @@ std::string rows_csv(const SweepResult& r) {
          "," + num(f.view.pixel.y(), "%.4f") + "," + num(f.truth.black_square_px, "%.4f") + "," + row.detector + "," +
          (row.detected_right_id ? "1" : "0") + "," + (row.wrong_id ? "1" : "0") + "," +
          num(row.orientation_error_deg, "%.6g") + "," + num(row.distance_error_m, "%.6g") + "," +
-         num(row.distance_error_percent, "%.6g") + "," + num(row.corner_rms_px, "%.6g") + "," + num(row.ms, "%.4f") +
+         num(row.distance_error_percent, "%.6g") + "," + num(row.corner_rms_px, "%.6g") + "," +
+         num(row.decision_margin, "%.6g") + "," + num(row.ms, "%.4f") +
          "\n";
   }
   return o;

@@ -68,7 +68,8 @@ struct SweepSettings {
   std::vector<double> steps;               // angle: phi in degrees, [0, 90); distance: metres, > 0; empty: defaults
   std::optional<double> distance;          // angle and conditions: the fixed distance, metres (default 1)
   std::vector<Condition> conditions;       // conditions: which; empty: all six
-  std::string family = "36h11";            // the one family all five detectors know
+  std::string family = "36h11";            // the one family all five detectors know; libapriltag and aruco
+                                           // also know 16h5, 25h9, 36h10, ours every family
 };
 
 // The settings with every default filled in; throws std::invalid_argument with a one-line message for
@@ -116,6 +117,7 @@ struct SweepRow {
   bool detected_right_id = false, wrong_id = false;
   // Of the right-id detection (the one nearest the truth if several); NaN when not detected or no pose.
   double orientation_error_deg, distance_error_m, distance_error_percent, corner_rms_px;
+  double decision_margin;    // of that detection, as Found::decision_margin (NaN: not detected, or not reported)
   double ms = 0;             // the detector's time on this frame, one thread
 };
 

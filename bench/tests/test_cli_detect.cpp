@@ -329,6 +329,7 @@ TEST(CliDetect, FamilyIdAndCornersInJsonAndCsv) {
   EXPECT_EQ(j["tool"].str, "tagbench detect");
   EXPECT_EQ(j["options"]["families"][0].str, "25h9");
   EXPECT_EQ(j["options"]["max_hamming"].num, 1);
+  EXPECT_EQ(j["options"]["min_decision_margin"].num, 0);
   EXPECT_EQ(j["options"]["camera"].type, Json::kNull);
   EXPECT_EQ(j["errors"].size(), 0u);
   ASSERT_EQ(j["images"].size(), 2u);
@@ -364,7 +365,8 @@ TEST(CliDetect, FamilyIdAndCornersInJsonAndCsv) {
                        q(dir / "turned.png"));
   ASSERT_EQ(c.code, 0) << c.err;
   EXPECT_EQ(c.out.rfind("input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,"
-                        "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res\n",
+                        "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,"
+                        "min_decision_margin\n",
                         0),
             0u);
   const auto rows = parse_csv(c.out);
@@ -375,6 +377,7 @@ TEST(CliDetect, FamilyIdAndCornersInJsonAndCsv) {
     EXPECT_EQ(row.at("id"), "7");
     EXPECT_EQ(row.at("max_hamming"), "2");
     EXPECT_EQ(row.at("half_res"), "0");
+    EXPECT_EQ(row.at("min_decision_margin"), "0");
     EXPECT_EQ(row.at("tz"), "");
     EXPECT_EQ(row.at("r22"), "");
     const std::array<Pt, 4> want = n == 0 ? up : std::array<Pt, 4>{up[1], up[2], up[3], up[0]};

@@ -98,6 +98,9 @@ Detector::Detector(DetectorOptions options) : opt_(std::move(options)) {
   for (const auto& f : opt_.families) families_.push_back(load_family(f));
   if (opt_.max_hamming < 0 || opt_.max_hamming > 16)
     throw std::invalid_argument("max hamming " + std::to_string(opt_.max_hamming) + " is outside 0..16");
+  if (!(opt_.min_decision_margin >= 0 && opt_.min_decision_margin <= 1))
+    throw std::invalid_argument("minimum decision margin " + std::to_string(opt_.min_decision_margin) +
+                                " is outside 0..1");
   if (!(opt_.seg_sigma >= 0) || !(opt_.decode_sigma >= 0) || !std::isfinite(opt_.seg_sigma) ||
       !std::isfinite(opt_.decode_sigma))
     throw std::invalid_argument("blur sigma must be finite and >= 0");
@@ -253,6 +256,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     }
     if (!replaced && !dropped) out.push_back(std::move(d));
   }
+  std::erase_if(out, [&](const Detection& d) { return d.decision_margin < opt_.min_decision_margin; });
   tm.decode = ms_since(t);
 
   // 7. Poses.

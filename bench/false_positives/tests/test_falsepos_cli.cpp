@@ -138,11 +138,58 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
     EXPECT_GT(fs::file_size(out / png), 10000u) << png;
 }
 
+// The margin trade-off end to end: the corpus's five 36h11 tags are its "false" detections (clean
+// synthetic tags, read with margins near 1), the true side a tiny ray-traced sweep; then the plot.
+TEST(FalseposCli, MarginTradeoffOnASmallCorpusAndATinySweep) {
+  tagbench::testing::ScratchDir s("tagbench_falsepos");
+  const fs::path corpus = s.path() / "corpus", out = s.path() / "results";
+  make_corpus(corpus);
+  fs::create_directories(out);
+  const auto r = run_tagbench("falsepos margin --corpus " + corpus.string() + " --out " + out.string() +
+                                  " --families 36h11 --thresholds 0,0.5,1 --trials 2 --distances 2,4 --conditions noise"
+                                  " --processes 1 --jobs 2 --cache " + (s.path() / "cache").string(),
+                              s.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto rows = read_csv(out / "margin_tradeoff.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& row : rows) {
+    const std::string& m = row.at("threshold");
+    EXPECT_EQ(row.at("family"), "36h11");
+    EXPECT_EQ(row.at("images"), "4");
+    EXPECT_EQ(row.at("distance_frames"), "4");
+    EXPECT_EQ(row.at("noise_frames"), "10");  // 2 trials x (baseline + 4 strengths)
+    if (m == "0" || m == "0.5") {
+      EXPECT_EQ(row.at("false_detections"), "5") << m;
+      EXPECT_EQ(row.at("images_with_false"), "2") << m;
+      EXPECT_EQ(row.at("distance_detected"), "4") << m;  // 1 m tag at 2 and 4 m: 200 and 100 px
+      EXPECT_EQ(row.at("distance_range_m"), "4") << m;
+      EXPECT_GE(std::stoi(row.at("noise_detected")), 8) << m;
+    } else {
+      // Margin 1 keeps only reads with every cell exactly at its model: fewer than at 0.5.
+      EXPECT_EQ(m, "1");
+      EXPECT_LE(std::stoi(row.at("distance_detected")), 4);
+      EXPECT_LE(std::stoi(row.at("false_detections")), 5);
+    }
+  }
+  const auto steps = read_csv(out / "margin_tradeoff_steps.csv");
+  EXPECT_EQ(steps.size(), 3u * (2 + 5));  // thresholds x (2 distances + 5 noise strengths)
+  const std::string js = slurp(out / "margin_tradeoff.json");
+  EXPECT_NE(js.find("\"thresholds\": [0, 0.5, 1]"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"experiment\": \"conditions\", \"conditions\": [\"noise\"]"), std::string::npos) << js;
+  const std::string plot = "/usr/bin/python3 " + std::string(TAGBENCH_SOURCE_DIR) + "/scripts/plot_falsepos.py " +
+                           out.string() + " margin >/dev/null 2>&1";
+  ASSERT_EQ(std::system(plot.c_str()), 0);
+  EXPECT_GT(fs::file_size(out / "margin_tradeoff.png"), 10000u);
+}
+
 TEST(FalseposCli, RefusesBadInputInOneLineWithoutOutput) {
   tagbench::testing::ScratchDir s("tagbench_falsepos");
   const fs::path out = s.path() / "results";
   fs::create_directories(out);
   fs::create_directories(s.path() / "empty");
+  fs::create_directories(s.path() / "one");
+  cv::Mat grey(50, 60, CV_8UC1, cv::Scalar(128));
+  cv::imwrite((s.path() / "one" / "grey.png").string(), grey);
   std::ofstream(s.path() / "junk.bin") << "not a store";
   struct Case {
     std::string args, message;
@@ -160,6 +207,20 @@ TEST(FalseposCli, RefusesBadInputInOneLineWithoutOutput) {
       {"falsepos detectors --corpus " + (s.path() / "empty").string() + " --out " + out.string() +
            " --detectors aruco-default --families 36h15",
        "no AprilTag dictionary for '36h15'", 2},
+      {"falsepos margin --corpus " + (s.path() / "empty").string() + " --out " + out.string() + " --thresholds 0.5,0.2",
+       "--thresholds: the thresholds must be ascending", 2},
+      {"falsepos margin --corpus " + (s.path() / "empty").string() + " --out " + out.string() + " --thresholds 0,2",
+       "--thresholds: 2 is outside the allowed range", 2},
+      {"falsepos margin --corpus " + (s.path() / "empty").string() + " --out " + out.string() + " --conditions fog",
+       "unknown condition 'fog'", 2},
+      {"falsepos margin --corpus " + (s.path() / "empty").string() + " --out " + out.string() + " --families 36h99",
+       "unknown family '36h99'", 2},
+      {"falsepos margin --corpus " + (s.path() / "empty").string() + " --out " + out.string() + " --distances 0.5",
+       "does not fit", 2},
+      {"falsepos margin --corpus " + (s.path() / "empty").string() + " --out " + out.string(), "no images", 1},
+      {"falsepos margin --corpus " + (s.path() / "one").string() + " --out " + out.string() +
+           " --povray ./nopovray --trials 1 --distances 2 --conditions none --cache " + (s.path() / "cache").string(),
+       "povray not found", 1},
       {"falsepos frobnicate", "unknown subcommand 'frobnicate'", 2},
   };
   for (const auto& c : cases) {

@@ -221,6 +221,16 @@ TEST(SweepPlan, BadSettingsAreRefusedWithOneLine) {
   s = settings(Experiment::kDistance, 1);
   s.distance = 3;
   expect(s, "its distances are its steps");
+  s = settings(Experiment::kDistance, 1);
+  s.family = "36h99";
+  expect(s, "unknown family '36h99'");
+  s.family = "36h15";  // ours knows it, libapriltag does not
+  expect(s, "libapriltag has no family");
+  s.detectors = {"tagbench-full"};
+  EXPECT_EQ(resolve_settings(s).family, "36h15");
+  s.family = "16h5";
+  s.detectors = {};
+  EXPECT_EQ(resolve_settings(s).detectors, comparator_names());  // all five know 16h5
   // A tag that cannot be wholly in view: a 1 m tag at 1 m (its black square would fill the image).
   expect(settings(Experiment::kDistance, 1, {1}), "does not fit");
   s = settings(Experiment::kAngle, 1);
@@ -335,8 +345,8 @@ void check_rows_and_summary(const SweepResult& r) {
   EXPECT_EQ(csv[0],
             "experiment,condition,step,step_unit,trial,seed,id,scene,family,tag_size_m,distance_m,phi_deg,"
             "tilt_axis_deg,roll_deg,image_x,image_y,black_square_px,detector,detected_right_id,wrong_id,"
-            "orientation_error_deg,distance_error_m,distance_error_percent,corner_rms_px,ms");
-  for (std::size_t i = 1; i < csv.size(); ++i) EXPECT_EQ(fields(csv[i]).size(), 25u) << csv[i];
+            "orientation_error_deg,distance_error_m,distance_error_percent,corner_rms_px,decision_margin,ms");
+  for (std::size_t i = 1; i < csv.size(); ++i) EXPECT_EQ(fields(csv[i]).size(), 26u) << csv[i];
   const auto summary = summarize(r);
   const auto sum_csv = lines(summary_csv(r, summary));
   ASSERT_EQ(sum_csv.size(), summary.size() + 1);
@@ -392,6 +402,14 @@ TEST(SweepRun, SmallAngleSweepOursFindsEveryFrameTo60DegreesAndARerunRendersNoth
       EXPECT_LT(ours.orientation_error_deg, 1.0);
       EXPECT_LT(ours.distance_error_percent, 1.0);
       EXPECT_LT(ours.corner_rms_px, 0.3);
+      EXPECT_GT(ours.decision_margin, 0.5);  // a clean face-on render: every cell far from its threshold
+      EXPECT_LE(ours.decision_margin, 1.0);
+    }
+    // Detected with the right id: the margin of that detection (aruco reports none).
+    for (const auto& row : r.rows) {
+      if (row.frame == i) {
+        EXPECT_EQ(std::isnan(row.decision_margin), !row.detected_right_id || row.detector == "aruco") << row.detector;
+      }
     }
     for (const auto& row : r.rows) EXPECT_GT(row.ms, 0);
   }
