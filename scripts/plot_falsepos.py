@@ -181,7 +181,9 @@ def margin(results):
         draw_rate(ax, th, fp, [float(r["fp_per_image_ci95_lo"]) for r in fr], fp_hi, floor, "C3",
                   "false detections per image", marker="o", ms=3, lw=1.4)
         ax.set_yscale("log")
-        ax.set_ylim(floor / 2, max(fp_hi) * 3)
+        fp_lo = [float(r["fp_per_image_ci95_lo"]) for r in fr]
+        bottom = floor if min(fp) <= 0 else min(x for x in fp_lo + fp if x > 0)
+        ax.set_ylim(bottom / 2, max(fp_hi) * 3)
         ax.set_xlabel("minimum decision margin")
         ax.set_ylabel("false detections per corpus image (95 % exact Poisson)", color="C3")
         ax.grid(True, which="both", alpha=0.3)

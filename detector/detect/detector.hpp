@@ -36,8 +36,8 @@ struct DetectorOptions {
   // Beyond the paper: drop detections whose decision_margin (payload_decode.hpp) is below this, in
   // [0, 1]; 0 keeps every one (the paper's detector). Applied to the final detections, after
   // duplicates are merged, so a run at 0 whose detections are then filtered at m gives exactly what a
-  // run at m gives (how `tagbench falsepos margin` scores thresholds from one run). False 16h5
-  // detections on natural images mostly read with margins under 0.2, real tags near 1 (README).
+  // run at m gives (how `tagbench falsepos margin` scores thresholds from one run). What each
+  // threshold saves in false detections and costs in real ones: results/margin_tradeoff.csv (README).
   double min_decision_margin = 0;
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
   double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
