@@ -176,6 +176,16 @@ TEST(FalseposCli, MarginTradeoffOnASmallCorpusAndATinySweep) {
   const std::string js = slurp(out / "margin_tradeoff.json");
   EXPECT_NE(js.find("\"thresholds\": [0, 0.5, 1]"), std::string::npos) << js;
   EXPECT_NE(js.find("\"experiment\": \"conditions\", \"conditions\": [\"noise\"]"), std::string::npos) << js;
+  // The same numbers from one thread (the frames now come from the cache).
+  const fs::path again = s.path() / "again";
+  fs::create_directories(again);
+  const auto r1 = run_tagbench("falsepos margin --corpus " + corpus.string() + " --out " + again.string() +
+                                   " --families 36h11 --thresholds 0,0.5,1 --trials 2 --distances 2,4 --conditions noise"
+                                   " --processes 1 --jobs 1 --cache " + (s.path() / "cache").string(),
+                               s.path());
+  ASSERT_EQ(r1.code, 0) << r1.err;
+  EXPECT_EQ(slurp(again / "margin_tradeoff.csv"), slurp(out / "margin_tradeoff.csv"));
+  EXPECT_EQ(slurp(again / "margin_tradeoff_steps.csv"), slurp(out / "margin_tradeoff_steps.csv"));
   const std::string plot = "/usr/bin/python3 " + std::string(TAGBENCH_SOURCE_DIR) + "/scripts/plot_falsepos.py " +
                            out.string() + " margin >/dev/null 2>&1";
   ASSERT_EQ(std::system(plot.c_str()), 0);
