@@ -19,6 +19,7 @@
 #include "fp_detectors.hpp"
 #include "margin_tradeoff.hpp"
 #include "raytrace/sweeps.hpp"
+#include "util/json.hpp"
 #include "util/atomic_file.hpp"
 #include "util/progress.hpp"
 #include "util/sysinfo.hpp"
@@ -84,27 +85,6 @@ Common:
   --out DIR         where the results go (default results; must exist)
   --jobs N          threads (default: all cores); results do not depend on it
 )";
-
-std::string json_string(const std::string& s) {
-  std::string o = "\"";
-  for (const unsigned char c : s) {
-    if (c == '"' || c == '\\') {
-      o += '\\';
-      o += static_cast<char>(c);
-    } else if (c == '\n') {
-      o += "\\n";
-    } else if (c == '\t') {
-      o += "\\t";
-    } else if (c < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      o += buf;
-    } else {
-      o += static_cast<char>(c);
-    }
-  }
-  return o + "\"";
-}
 
 // --corpus DIR: required, an existing folder.
 std::string corpus_arg(const Args& a) {
@@ -277,16 +257,6 @@ int falsepos_detectors(const Words& w) {
                "fp_detectors.csv, fp_detections.csv, fp_detectors.json in %s\n",
                run.images.size(), unreadable, run.detections.size(), secs, dir.string().c_str());
   return 0;
-}
-
-std::string json_numbers(const std::vector<double>& v) {
-  std::string o = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.10g", v[i]);
-    o += (i ? ", " : "") + std::string(buf);
-  }
-  return o + "]";
 }
 
 int falsepos_margin(const Words& w) {

@@ -19,6 +19,7 @@
 
 #include "codes/families.hpp"
 #include "detect/detector.hpp"
+#include "util/json.hpp"
 
 namespace tagbench {
 
@@ -200,35 +201,6 @@ SweepRow row_of(const DetectorOutput& out, const std::string& detector, std::siz
     r.decision_margin = best->decision_margin;
   }
   return r;
-}
-
-std::string json_string(const std::string& s) {
-  std::string o = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"': o += "\\\""; break;
-      case '\\': o += "\\\\"; break;
-      case '\n': o += "\\n"; break;
-      case '\t': o += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          o += buf;
-        } else {
-          o += c;
-        }
-    }
-  }
-  return o + "\"";
-}
-
-std::string json_number(double v) { return std::isfinite(v) ? num(v, "%.10g") : "null"; }
-
-std::string json_numbers(const std::vector<double>& v) {
-  std::string s = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + json_number(v[i]);
-  return s + "]";
 }
 
 const char* step_unit(const SweepFrame& f, Experiment e) {
