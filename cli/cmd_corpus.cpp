@@ -116,10 +116,13 @@ int corpus_build(const Words& w) {
   o.jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
   o.verify = a.flag("verify");
   const auto s = corpus::build_corpus(o);
+  const std::string pruned =
+      s.rows_pruned ? "; " + std::to_string(s.rows_pruned) + " rows of sources no longer listed removed" : "";
   std::fprintf(stderr,
                "tagbench corpus build: %d packages built, %d already in place; %ld stills, %ld video frames "
-               "written in %s (%.1f s)\n",
-               s.packages_done, s.packages_skipped, s.stills, s.video_frames, o.out.string().c_str(), s.seconds);
+               "written in %s%s (%.1f s)\n",
+               s.packages_done, s.packages_skipped, s.stills, s.video_frames, o.out.string().c_str(), pruned.c_str(),
+               s.seconds);
   return 0;
 }
 

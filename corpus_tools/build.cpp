@@ -110,6 +110,23 @@ std::string sanitize(const std::string& s) {
   return out.empty() ? "_" : out;
 }
 
+// Whether manifest row m came from list row s: same package, version and group, and the row's
+// file inside the package is the source's path (or matches it, for a folder of frames).
+bool row_of_source(const ManifestRow& m, const Source& s) {
+  if (m.package != s.package || m.version != s.version || m.group != s.group) return false;
+  return is_glob(s.path) ? ::fnmatch(s.path.c_str(), m.path.c_str(), FNM_PATHNAME) == 0 : m.path == s.path;
+}
+
+// A manifest file name we may delete: relative, inside stills/ or video/, without "..".
+bool prunable_file(const std::string& file) {
+  const fs::path p(file);
+  if (p.empty() || p.is_absolute()) return false;
+  for (const auto& part : p)
+    if (part == "..") return false;
+  const std::string top = p.begin()->string();
+  return top == "stills" || top == "video";
+}
+
 struct Package {
   std::string name, version;
   std::vector<std::size_t> rows;  // indices into the sources
@@ -202,10 +219,7 @@ struct Builder {
       const Source& s = sources[i];
       bool found = false;
       for (const auto& m : manifest) {
-        if (m.package != s.package || m.version != s.version || m.group != s.group) continue;
-        const bool match = is_glob(s.path) ? ::fnmatch(s.path.c_str(), m.path.c_str(), FNM_PATHNAME) == 0
-                                           : m.path == s.path;
-        if (!match) continue;
+        if (!row_of_source(m, s)) continue;
         if (!fs::exists(opt.out / m.file)) return false;
         found = true;
       }
@@ -449,6 +463,29 @@ BuildStats build_corpus(const BuildOptions& opt) {
   std::error_code ec;
   fs::remove(opt.out / ".work", ec);  // only if empty
   if (failed) throw std::runtime_error(error);
+  if (only.empty()) {
+    // Rows no list row names: the manifest first (a run killed in between leaves stray files that
+    // no row lists, never a row without its file), then their files.
+    std::lock_guard lk(b.mu);
+    std::vector<ManifestRow> kept, stale;
+    for (auto& m : b.manifest) {
+      const bool current =
+          std::any_of(sources.begin(), sources.end(), [&](const Source& s) { return row_of_source(m, s); });
+      (current ? kept : stale).push_back(std::move(m));
+    }
+    b.manifest = std::move(kept);
+    if (!stale.empty()) {
+      b.save_manifest();
+      std::set<std::string> in_use;
+      for (const auto& m : b.manifest) in_use.insert(m.file);
+      for (const auto& m : stale) {
+        if (in_use.count(m.file) || !prunable_file(m.file)) continue;
+        fs::remove(opt.out / m.file, ec);
+        fs::remove((opt.out / m.file).parent_path(), ec);  // the group's folder, once empty
+      }
+      b.stats.rows_pruned = static_cast<long>(stale.size());
+    }
+  }
   if (!fs::exists(manifest_file)) {
     std::lock_guard lk(b.mu);
     b.save_manifest();

@@ -34,9 +34,14 @@ struct BuildOptions {
 struct BuildStats {
   int packages_done = 0, packages_skipped = 0;
   long stills = 0, video_frames = 0;
+  long rows_pruned = 0;  // manifest rows of sources no longer in the lists, removed with their files
   double seconds = 0;
 };
 
+// After a successful build over the whole lists (no `packages` filter), manifest rows that no list
+// row names (a source taken out of the lists, or moved to another group or version) are removed, and
+// then their files (only files under stills/ or video/ inside OUT that no kept row uses), so the
+// corpus the experiments read is the lists' and nothing else.
 BuildStats build_corpus(const BuildOptions& opt);
 
 // The file name apt-get download gives PKG=VERSION, up to the architecture: "pkg_1%3a2.0-1_"

@@ -195,6 +195,65 @@ TEST(CorpusCli, BuildRebuildAndChangedFile) {
   }
 }
 
+// Sources taken out of the lists leave the corpus at the next full build: their rows, then their
+// files; a build restricted by --packages prunes nothing; a row naming a file outside stills/ and
+// video/ is dropped from the manifest but its file is never touched.
+TEST(CorpusCli, RowsOfSourcesNoLongerListedArePrunedWithTheirFiles) {
+  make_deb(pattern(3000, 1000, 1));
+  const fs::path lists = root() / "lists-prune", out = root() / "out-prune";
+  const std::string header = "group\tdebian_package\tversion\tpath_in_package\tlicense\n";
+  const std::string big = "big\tfakepkg\t2:1.0-1\t/usr/share/fake/photo.png\tCC0\n";
+  const std::string fish = "fish\tfakepkg\t2:1.0-1\t/_rcc/gcompris/src/activities/categorization/resource/fish.png\tGPL-3+\n";
+  const std::string vheader = "group\tdebian_package\tversion\tpath_in_package\tframe_step\tlicense\n";
+  const std::string clip = "clip\tfakepkg\t2:1.0-1\t/usr/share/fake/clip.avi\t3\tCC0\n";
+  const std::string frames = "frames\tfakepkg\t2:1.0-1\t/usr/share/fake/frames/frame_*.png\t2\tCC0\n";
+  auto lists_with = [&](const std::string& photos, const std::string& videos) {
+    put(lists / "photo_sources.tsv", header + photos);
+    put(lists / "video_sources.tsv", vheader + videos);
+  };
+  const std::string args = "corpus build --out " + out.string() + " --lists " + lists.string() + " --debs " +
+                           (root() / "debs").string() + " --jobs 2";
+  lists_with(big + fish, clip + frames);
+  Result r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(parse_manifest(slurp(out / "manifest.tsv"), "m").size(), 8u);
+  const auto stamp = fs::last_write_time(out / "stills/big/photo.png");
+
+  // A row of a package no list names, whose file lies outside stills/ and video/: dropped, file kept
+  // (the manifest reader already refuses paths leaving the corpus folder).
+  put(out / "other/outside.png", "not ours");
+  auto rows = parse_manifest(slurp(out / "manifest.tsv"), "m");
+  ManifestRow odd = rows.front();
+  odd.package = "otherpkg";
+  odd.file = "other/outside.png";
+  rows.push_back(odd);
+  put(out / "manifest.tsv", manifest_tsv(rows));
+
+  // fish and frames leave the lists; a build limited to the package prunes nothing.
+  lists_with(big, clip + frames);
+  r = run(args + " --packages fakepkg");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(parse_manifest(slurp(out / "manifest.tsv"), "m").size(), 9u);
+  lists_with(big, clip);
+  r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("; 5 rows of sources no longer listed removed"), std::string::npos) << r.err;
+  const auto kept = parse_manifest(slurp(out / "manifest.tsv"), "m");
+  ASSERT_EQ(kept.size(), 4u);  // the photo and three clip frames
+  for (const auto& row : kept) {
+    EXPECT_TRUE(row.group == "big" || row.group == "clip") << row.file;
+    EXPECT_TRUE(fs::exists(out / row.file)) << row.file;
+  }
+  EXPECT_FALSE(fs::exists(out / "stills/fish")) << "the file and its emptied group folder";
+  EXPECT_FALSE(fs::exists(out / "video/frames"));
+  EXPECT_TRUE(fs::exists(out / "other/outside.png"));
+  EXPECT_EQ(fs::last_write_time(out / "stills/big/photo.png"), stamp);  // the rest untouched
+  // Nothing left to prune: the next build says nothing about it.
+  r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("no longer listed"), std::string::npos) << r.err;
+}
+
 TEST(CorpusCli, Refusals) {
   make_lists();
   fs::create_directories(root() / "nodebs");
