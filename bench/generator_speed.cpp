@@ -1,8 +1,9 @@
 #include "generator_speed.hpp"
 
+#include <charconv>
 #include <chrono>
 #include <cstdio>
-#include <regex>
+#include <optional>
 #include <sstream>
 
 #include "codes/families.hpp"
@@ -50,10 +51,38 @@ std::vector<GeneratorSpeedRow> measure_generator_speed(const std::vector<std::st
   return rows;
 }
 
+namespace {
+
+// The value of `key=` in a generation record (" key=value", or key=... at its start): up to the next
+// space, or between the quotes when it starts with one. nullopt when absent or unterminated.
+std::optional<std::string> record_value(const std::string& rec, const std::string& key) {
+  const std::string k = key + "=";
+  std::size_t at = rec.find(k);
+  while (at != std::string::npos && at != 0 && rec[at - 1] != ' ') at = rec.find(k, at + 1);
+  if (at == std::string::npos) return std::nullopt;
+  const std::size_t v = at + k.size();
+  if (v < rec.size() && rec[v] == '"') {
+    const std::size_t end = rec.find('"', v + 1);
+    if (end == std::string::npos) return std::nullopt;
+    return rec.substr(v + 1, end - v - 1);
+  }
+  const std::size_t end = rec.find(' ', v);
+  return rec.substr(v, end == std::string::npos ? std::string::npos : end - v);
+}
+
+std::optional<double> record_number(const std::string& rec, const std::string& key) {
+  const auto v = record_value(rec, key);
+  double x = 0;
+  if (!v || v->empty()) return std::nullopt;
+  const auto r = std::from_chars(v->data(), v->data() + v->size(), x);
+  if (r.ec != std::errc() || r.ptr != v->data() + v->size()) return std::nullopt;
+  return x;
+}
+
+}  // namespace
+
 std::vector<GeneratorSpeedRow> recorded_generator_runs() {
   // "total: candidates=N wall_seconds=S" and "run: ... threads=T ... scan=X cpu="..."" (cmd_family.cpp).
-  const std::regex total(R"(^total: candidates=(\d+) wall_seconds=([0-9.eE+-]+))");
-  const std::regex run(R"(^run: .*threads=(\d+) .*scan=(\S+) cpu="([^"]*)\")");
   std::vector<GeneratorSpeedRow> rows;
   for (const auto& name : builtin_family_names()) {
     const TagFamily& f = builtin_family(name);
@@ -62,15 +91,21 @@ std::vector<GeneratorSpeedRow> recorded_generator_runs() {
     GeneratorSpeedRow r;
     bool have_total = false;
     for (const auto& rec : i.records) {
-      std::smatch m;
-      if (std::regex_search(rec, m, total)) {
-        r.candidates = std::stod(m[1]);
-        r.wall_seconds = std::stod(m[2]);
-        have_total = true;
-      } else if (std::regex_search(rec, m, run)) {
-        r.threads = std::stoi(m[1]);
-        r.scan = m[2];
-        r.cpu = m[3];
+      if (rec.rfind("total: ", 0) == 0) {
+        const auto candidates = record_number(rec, "candidates"), seconds = record_number(rec, "wall_seconds");
+        if (candidates && seconds) {
+          r.candidates = *candidates;
+          r.wall_seconds = *seconds;
+          have_total = true;
+        }
+      } else if (rec.rfind("run: ", 0) == 0) {
+        const auto threads = record_number(rec, "threads");
+        const auto scan = record_value(rec, "scan"), cpu = record_value(rec, "cpu");
+        if (threads && scan && cpu) {
+          r.threads = static_cast<int>(*threads);
+          r.scan = *scan;
+          r.cpu = *cpu;
+        }
       }
     }
     if (!have_total) continue;

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
+#include <string>
 
 #include "code_experiments.hpp"
 #include "codes/families.hpp"
+#include "generator_speed.hpp"
 
 using namespace tagbench;
 
@@ -78,4 +81,22 @@ TEST(CodeExperiments, CodeTableHasThePapersRowsWithMeasuredDistances) {
   EXPECT_EQ(csv.rfind("scheme,family,status,bits,codes,min_hamming_with_rotations", 0), 0u);
   EXPECT_NE(csv.find("\"ARToolkit+ (BCH)\",artoolkitplus-bch,ok,36,4096,2,"), std::string::npos);
   EXPECT_EQ(fig5.rfind("scheme,family,codes,pairs_total,distance,pairs,fraction", 0), 0u);
+}
+
+// The generator runs recorded in the shipped family files: every seeded family's total and run lines
+// are read back (the full candidate space, its wall time, threads, scan and CPU).
+TEST(GeneratorSpeed, RecordedRunsOfEveryShippedGeneratedFamily) {
+  const auto rows = tagbench::recorded_generator_runs();
+  std::set<std::string> names;
+  for (const auto& r : rows) {
+    names.insert(r.family);
+    EXPECT_EQ(r.source, "recorded");
+    EXPECT_EQ(r.candidates, std::ldexp(1.0, r.bits)) << r.family << ": a finished run scans every candidate";
+    EXPECT_GT(r.wall_seconds, 0) << r.family;
+    EXPECT_GE(r.threads, 1) << r.family;
+    EXPECT_FALSE(r.scan.empty()) << r.family;
+    EXPECT_FALSE(r.cpu.empty()) << r.family;
+    EXPECT_EQ(r.codes, tagbench::builtin_family(r.family).size());
+  }
+  for (const char* f : {"16h5", "25h9", "36h9", "36h10", "36h11", "36h15"}) EXPECT_TRUE(names.count(f)) << f;
 }
