@@ -3,8 +3,6 @@
 #include <opencv2/core.hpp>
 
 #include <chrono>
-#include <cstdlib>
-#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -19,8 +17,8 @@
 #include "fp_detectors.hpp"
 #include "margin_tradeoff.hpp"
 #include "raytrace/sweeps.hpp"
-#include "util/json.hpp"
 #include "util/atomic_file.hpp"
+#include "util/json.hpp"
 #include "util/progress.hpp"
 #include "util/sysinfo.hpp"
 
@@ -192,6 +190,23 @@ int falsepos_codes(const Words& w) {
   return 0;
 }
 
+// run_fp_detectors with a progress bar (count, detections, time left). Images run in parallel there;
+// OpenCV's own thread pool (aruco) would only oversubscribe the cores, so it is set to one thread.
+FpDetectorsRun fp_detectors_with_progress(const std::string& corpus_dir, std::vector<corpus::CandidateImage> images,
+                                          const FpDetectorsOptions& o, const std::string& label) {
+  cv::setNumThreads(1);
+  ProgressBar bar(label);
+  const auto t0 = std::chrono::steady_clock::now();
+  return run_fp_detectors(corpus_dir, std::move(images), o, [&](const FpDetectorsProgress& p) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double rate = s > 0 ? static_cast<double>(p.images_done) / s : 0;
+    const double left = rate > 0 ? static_cast<double>(p.images_total - p.images_done) / rate : -1;
+    bar.update(p.images_total ? static_cast<double>(p.images_done) / static_cast<double>(p.images_total) : 1.0,
+               std::to_string(p.images_done) + "/" + std::to_string(p.images_total),
+               std::to_string(p.detections) + " detections", left);
+  });
+}
+
 int falsepos_detectors(const Words& w) {
   const Args a(w, {{"corpus"}, {"out"}, {"detectors"}, {"families"}, {"jobs"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
@@ -213,21 +228,8 @@ int falsepos_detectors(const Words& w) {
       }
   auto images = corpus::corpus_images(corpus_dir);
   if (images.empty()) throw std::runtime_error(corpus_dir + ": no images");
-  // Images run in parallel here; OpenCV's own thread pool (aruco) would only oversubscribe the cores.
-  cv::setNumThreads(1);
   const auto t0 = std::chrono::steady_clock::now();
-  FpDetectorsRun run;
-  {
-    ProgressBar bar("false positives");
-    run = run_fp_detectors(corpus_dir, std::move(images), o, [&](const FpDetectorsProgress& p) {
-      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const double rate = s > 0 ? static_cast<double>(p.images_done) / s : 0;
-      const double left = rate > 0 ? static_cast<double>(p.images_total - p.images_done) / rate : -1;
-      bar.update(p.images_total ? static_cast<double>(p.images_done) / static_cast<double>(p.images_total) : 1.0,
-                 std::to_string(p.images_done) + "/" + std::to_string(p.images_total),
-                 std::to_string(p.detections) + " detections", left);
-    });
-  }
+  const FpDetectorsRun run = fp_detectors_with_progress(corpus_dir, std::move(images), o, "false positives");
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto rows = fp_detector_rows(run);
   std::size_t unreadable = 0;
@@ -290,10 +292,11 @@ int falsepos_margin(const Words& w) {
   // Every setting is checked before any work: the sweeps' plans (family, conditions), the thresholds.
   std::vector<std::pair<std::string, std::vector<SweepSettings>>> plans;
   try {
-    if (thresholds.empty()) throw std::invalid_argument("--thresholds: empty list");
-    for (std::size_t i = 1; i < thresholds.size(); ++i)
-      if (!(thresholds[i] > thresholds[i - 1]))
-        throw std::invalid_argument("--thresholds: the thresholds must be ascending without repeats");
+    check_margin_thresholds(thresholds);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--thresholds: ") + e.what());
+  }
+  try {
     for (const auto& f : o.families) {
       std::vector<SweepSettings> v;
       SweepSettings d;
@@ -342,20 +345,7 @@ int falsepos_margin(const Words& w) {
                                                   "margin " + family + " " + experiment_name(s.experiment)));
     sweeps.push_back(std::move(fs));
   }
-  cv::setNumThreads(1);
-  FpDetectorsRun run;
-  {
-    ProgressBar bar("margin: corpus");
-    const auto c0 = std::chrono::steady_clock::now();
-    run = run_fp_detectors(corpus_dir, std::move(images), o, [&](const FpDetectorsProgress& p) {
-      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
-      const double rate = s > 0 ? static_cast<double>(p.images_done) / s : 0;
-      bar.update(p.images_total ? static_cast<double>(p.images_done) / static_cast<double>(p.images_total) : 1.0,
-                 std::to_string(p.images_done) + "/" + std::to_string(p.images_total),
-                 std::to_string(p.detections) + " detections",
-                 rate > 0 ? static_cast<double>(p.images_total - p.images_done) / rate : -1);
-    });
-  }
+  const FpDetectorsRun run = fp_detectors_with_progress(corpus_dir, std::move(images), o, "margin: corpus");
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   MarginTradeoff t;
   try {

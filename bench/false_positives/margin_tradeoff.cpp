@@ -70,15 +70,19 @@ std::vector<double> default_margin_thresholds() {
   return t;
 }
 
-MarginTradeoff margin_tradeoff(const FpDetectorsRun& fp, const std::vector<MarginFamilySweeps>& sweeps,
-                               const std::vector<double>& thresholds) {
-  if (thresholds.empty()) throw std::invalid_argument("no margin threshold given");
+void check_margin_thresholds(const std::vector<double>& thresholds) {
+  if (thresholds.empty()) throw std::invalid_argument("no threshold given");
   for (std::size_t i = 0; i < thresholds.size(); ++i) {
     if (!(thresholds[i] >= 0 && thresholds[i] <= 1))
-      throw std::invalid_argument("margin threshold " + num(thresholds[i]) + " is outside 0..1");
+      throw std::invalid_argument("the threshold " + num(thresholds[i]) + " is outside 0..1");
     if (i && !(thresholds[i] > thresholds[i - 1]))
-      throw std::invalid_argument("margin thresholds must be ascending without repeats");
+      throw std::invalid_argument("the thresholds must be ascending without repeats");
   }
+}
+
+MarginTradeoff margin_tradeoff(const FpDetectorsRun& fp, const std::vector<MarginFamilySweeps>& sweeps,
+                               const std::vector<double>& thresholds) {
+  check_margin_thresholds(thresholds);
   const auto& ran = fp.options;
   const bool have_detector =
       std::find(ran.detectors.begin(), ran.detectors.end(), kMarginDetector) != ran.detectors.end();
@@ -92,21 +96,30 @@ MarginTradeoff margin_tradeoff(const FpDetectorsRun& fp, const std::vector<Margi
       megapixels += static_cast<double>(im.width) * im.height / 1e6;
     }
 
+  // A step of a part of the true side: its frames' margins (NaN: not detected) and black-square widths.
+  struct Step {
+    std::string unit;
+    std::vector<double> margins, widths;
+  };
   MarginTradeoff out;
   for (const MarginFamilySweeps& fs : sweeps) {
     if (!have_detector || std::find(ran.families.begin(), ran.families.end(), fs.family) == ran.families.end())
       throw std::invalid_argument("family " + fs.family + ": no corpus run of " + kMarginDetector);
-    std::vector<TrueFrame> frames;
-    std::vector<std::string> parts;  // in the sweeps' order
+    // Grouped once: part (in the sweeps' order) -> step (ascending) -> frames.
+    std::vector<std::pair<std::string, std::map<double, Step>>> parts;
     for (const SweepResult& r : fs.sweeps) {
       if (short_family(r.settings.family) != short_family(fs.family))
         throw std::invalid_argument("a " + r.settings.family + " sweep given for family " + fs.family);
       const auto& d = r.settings.detectors;
       if (std::find(d.begin(), d.end(), kMarginDetector) == d.end())
         throw std::invalid_argument(std::string("a sweep without ") + kMarginDetector);
-      for (auto& t : true_frames(r)) {
-        if (std::find(parts.begin(), parts.end(), t.part) == parts.end()) parts.push_back(t.part);
-        frames.push_back(std::move(t));
+      for (const TrueFrame& t : true_frames(r)) {
+        auto it = std::find_if(parts.begin(), parts.end(), [&](const auto& p) { return p.first == t.part; });
+        if (it == parts.end()) it = parts.insert(parts.end(), {t.part, {}});
+        Step& st = it->second[t.step];
+        st.unit = t.unit;
+        st.margins.push_back(t.detected ? t.margin : kNaN);
+        st.widths.push_back(t.black_square_px);
       }
     }
     // False detections of this family, their margins; and which images they are in.
@@ -135,37 +148,31 @@ MarginTradeoff margin_tradeoff(const FpDetectorsRun& fp, const std::vector<Margi
       }
       s.image_share_ci = wilson_interval(s.images_with_false, images);
 
-      for (const std::string& part : parts) {
-        // Per step: frames, detected, black-square widths.
-        std::map<double, MarginStepRow> by_step;
-        std::map<double, std::vector<double>> widths;
-        for (const TrueFrame& t : frames) {
-          if (t.part != part) continue;
-          MarginStepRow& st = by_step[t.step];
-          st.family = fs.family;
-          st.threshold = m;
-          st.part = part;
-          st.step_unit = t.unit;
-          st.step = t.step;
-          ++st.frames;
-          if (t.detected && t.margin >= m) ++st.detected;
-          widths[t.step].push_back(t.black_square_px);
-        }
+      for (const auto& [part, steps] : parts) {
         MarginPartStats p;
         p.part = part;
         p.range_m = part == "distance" ? 0.0 : kNaN;
         bool in_range = true;
-        for (auto& [step, st] : by_step) {
+        for (const auto& [step, frames] : steps) {
+          MarginStepRow st;
+          st.family = fs.family;
+          st.threshold = m;
+          st.part = part;
+          st.step_unit = frames.unit;
+          st.step = step;
+          st.frames = frames.margins.size();
+          st.detected = static_cast<std::uint64_t>(
+              std::count_if(frames.margins.begin(), frames.margins.end(), [&](double x) { return x >= m; }));
           st.rate = static_cast<double>(st.detected) / static_cast<double>(st.frames);
           st.rate_ci = wilson_interval(st.detected, st.frames);
-          st.black_square_px_median = median(widths[step]);
+          st.black_square_px_median = median(frames.widths);
           p.frames += st.frames;
           p.detected += st.detected;
           if (part == "distance" && in_range) {
             if (st.rate >= kRangeRate) p.range_m = step;
             else in_range = false;
           }
-          out.steps.push_back(st);
+          out.steps.push_back(std::move(st));
         }
         p.rate = p.frames ? static_cast<double>(p.detected) / static_cast<double>(p.frames) : 0;
         p.rate_ci = wilson_interval(p.detected, p.frames);

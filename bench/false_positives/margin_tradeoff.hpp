@@ -26,6 +26,10 @@ namespace tagbench {
 // 0, 0.05, ..., 0.95.
 std::vector<double> default_margin_thresholds();
 
+// Throws std::invalid_argument (one line) unless the thresholds are given, in [0, 1] and ascending
+// without repeats.
+void check_margin_thresholds(const std::vector<double>& thresholds);
+
 // The detector whose detections are scored (our detector at its defaults, margin 0).
 inline constexpr const char* kMarginDetector = "tagbench-full";
 
@@ -71,7 +75,7 @@ struct MarginFamilySweeps {
 };
 
 // Scores every threshold. fp: a run with kMarginDetector over the families (others' rows are
-// ignored). Throws std::invalid_argument for a threshold outside [0, 1] or not ascending, a family
+// ignored). Throws std::invalid_argument for thresholds check_margin_thresholds refuses, a family
 // without the corpus run, or a sweep of another family or without kMarginDetector.
 MarginTradeoff margin_tradeoff(const FpDetectorsRun& fp, const std::vector<MarginFamilySweeps>& sweeps,
                                const std::vector<double>& thresholds);

@@ -145,10 +145,15 @@ TEST(FalseposCli, MarginTradeoffOnASmallCorpusAndATinySweep) {
   const fs::path corpus = s.path() / "corpus", out = s.path() / "results";
   make_corpus(corpus);
   fs::create_directories(out);
-  const auto r = run_tagbench("falsepos margin --corpus " + corpus.string() + " --out " + out.string() +
-                                  " --families 36h11 --thresholds 0,0.5,1 --trials 2 --distances 2,4 --conditions noise"
-                                  " --processes 1 --jobs 2 --cache " + (s.path() / "cache").string(),
-                              s.path());
+  // One run into `into` on `jobs` threads; the frames are cached in the scratch folder.
+  const auto margin = [&](const fs::path& into, int jobs) {
+    return run_tagbench("falsepos margin --corpus " + corpus.string() + " --out " + into.string() +
+                            " --families 36h11 --thresholds 0,0.5,1 --trials 2 --distances 2,4 --conditions noise"
+                            " --processes 1 --jobs " + std::to_string(jobs) + " --cache " +
+                            (s.path() / "cache").string(),
+                        s.path());
+  };
+  const auto r = margin(out, 2);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto rows = read_csv(out / "margin_tradeoff.csv");
   ASSERT_EQ(rows.size(), 3u);
@@ -179,10 +184,7 @@ TEST(FalseposCli, MarginTradeoffOnASmallCorpusAndATinySweep) {
   // The same numbers from one thread (the frames now come from the cache).
   const fs::path again = s.path() / "again";
   fs::create_directories(again);
-  const auto r1 = run_tagbench("falsepos margin --corpus " + corpus.string() + " --out " + again.string() +
-                                   " --families 36h11 --thresholds 0,0.5,1 --trials 2 --distances 2,4 --conditions noise"
-                                   " --processes 1 --jobs 1 --cache " + (s.path() / "cache").string(),
-                               s.path());
+  const auto r1 = margin(again, 1);
   ASSERT_EQ(r1.code, 0) << r1.err;
   EXPECT_EQ(slurp(again / "margin_tradeoff.csv"), slurp(out / "margin_tradeoff.csv"));
   EXPECT_EQ(slurp(again / "margin_tradeoff_steps.csv"), slurp(out / "margin_tradeoff_steps.csv"));
