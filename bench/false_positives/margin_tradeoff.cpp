@@ -9,14 +9,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "codes/families.hpp"
+
 namespace tagbench {
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRangeRate = 0.9;  // range_m: every step up to it detected in at least this share of frames
-
-std::string short_family(const std::string& n) { return n.rfind("tag", 0) == 0 ? n.substr(3) : n; }
 
 // One true-side frame of the scored detector.
 struct TrueFrame {
@@ -108,7 +108,7 @@ MarginTradeoff margin_tradeoff(const FpDetectorsRun& fp, const std::vector<Margi
     // Grouped once: part (in the sweeps' order) -> step (ascending) -> frames.
     std::vector<std::pair<std::string, std::map<double, Step>>> parts;
     for (const SweepResult& r : fs.sweeps) {
-      if (short_family(r.settings.family) != short_family(fs.family))
+      if (canonical_family_name(r.settings.family) != canonical_family_name(fs.family))
         throw std::invalid_argument("a " + r.settings.family + " sweep given for family " + fs.family);
       const auto& d = r.settings.detectors;
       if (std::find(d.begin(), d.end(), kMarginDetector) == d.end())

@@ -18,6 +18,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "codes/families.hpp"
 #include "detect/detector.hpp"
 
 namespace tagbench {
@@ -39,9 +40,6 @@ void check_setup(const ComparatorSetup& s) {
   if (s.camera && (!s.camera->valid() || !(s.tag_size > 0) || !std::isfinite(s.tag_size)))
     throw std::invalid_argument("a pose needs valid intrinsics and a tag size > 0");
 }
-
-// The family name without a "tag" prefix ("tag36h11" -> "36h11").
-std::string short_family(const std::string& f) { return f.rfind("tag", 0) == 0 ? f.substr(3) : f; }
 
 // ---- ours ------------------------------------------------------------------------------------------
 
@@ -99,7 +97,7 @@ AprilFamily april_family(const std::string& name) {
 class LibAprilTag final : public Comparator {
  public:
   LibAprilTag(std::string name, const ComparatorSetup& s, float decimate)
-      : Comparator(std::move(name)), setup_(s), family_name_(short_family(s.family)), fam_(april_family(family_name_)) {
+      : Comparator(std::move(name)), setup_(s), family_name_(canonical_family_name(s.family)), fam_(april_family(family_name_)) {
     tf_ = fam_.create();
     td_ = apriltag_detector_create();
     apriltag_detector_add_family(td_, tf_);  // its default: 2 corrected bits
@@ -176,7 +174,7 @@ class Aruco final : public Comparator {
       : Comparator(std::move(name)),
         shift_(apriltag_refinement ? 0.5f : 0.0f),
         setup_(s),
-        family_name_(short_family(s.family)),
+        family_name_(canonical_family_name(s.family)),
         dict_(cv::aruco::getPredefinedDictionary(aruco_dictionary(family_name_))),
         params_(cv::aruco::DetectorParameters::create()) {
     if (apriltag_refinement) params_->cornerRefinementMethod = cv::aruco::CORNER_REFINE_APRILTAG;

@@ -178,11 +178,10 @@ SweepRow row_of(const DetectorOutput& out, const std::string& detector, std::siz
   r.ms = out.ms;
   r.orientation_error_deg = r.distance_error_m = r.distance_error_percent = r.corner_rms_px = kNaN;
   r.decision_margin = kNaN;
-  const auto short_family = [](const std::string& n) { return n.rfind("tag", 0) == 0 ? n.substr(3) : n; };
   const Found* best = nullptr;
   FoundErrors best_e;
   for (const Found& found : out.found) {
-    if (found.id != f.frame.id || short_family(found.family) != short_family(f.frame.family)) {
+    if (found.id != f.frame.id || canonical_family_name(found.family) != canonical_family_name(f.frame.family)) {
       r.wrong_id = true;
       continue;
     }

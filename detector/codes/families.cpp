@@ -78,17 +78,17 @@ Registry& registry() {
   return r;
 }
 
-std::string canonical(std::string name) {
+}  // namespace
+
+std::string canonical_family_name(const std::string& name) {
   if (name.rfind("tag", 0) == 0 && name.size() > 3 && std::isdigit(static_cast<unsigned char>(name[3])))
-    name = name.substr(3);
+    return name.substr(3);
   return name;
 }
 
-}  // namespace
-
 std::vector<std::string> builtin_family_names() { return registry().names; }
 
-const TagFamily& builtin_family(const std::string& name) { return registry().get(canonical(name)); }
+const TagFamily& builtin_family(const std::string& name) { return registry().get(canonical_family_name(name)); }
 
 TagFamily load_family(const std::string& name_or_path) {
   std::error_code ec;

@@ -16,6 +16,10 @@ std::vector<std::string> builtin_family_names();
 // std::invalid_argument "unknown family 'X' (known: ...)" otherwise. Built once, then shared.
 const TagFamily& builtin_family(const std::string& name);
 
+// A family name without AprilTag's "tag" prefix ("tag36h11" -> "36h11"; "artoolkitplus-bch" and
+// file paths unchanged): the form builtin_family looks up, for comparing names from different tools.
+std::string canonical_family_name(const std::string& name);
+
 // A built-in family, or a family file when `name_or_path` names an existing file.
 TagFamily load_family(const std::string& name_or_path);
 

@@ -109,6 +109,11 @@ TEST(Families, RegistryKnowsAllShippedAndRivalFamilies) {
                         "artag-2046"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
   EXPECT_EQ(&builtin_family("tag16h5"), &builtin_family("16h5"));
+  EXPECT_EQ(canonical_family_name("tag36h11"), "36h11");
+  EXPECT_EQ(canonical_family_name("36h11"), "36h11");
+  EXPECT_EQ(canonical_family_name("artoolkitplus-bch"), "artoolkitplus-bch");
+  EXPECT_EQ(canonical_family_name("tag"), "tag");
+  EXPECT_EQ(canonical_family_name("tagged.fam"), "tagged.fam");  // only "tag" before a digit goes
   EXPECT_THROW(builtin_family("36h99"), std::invalid_argument);
   EXPECT_THROW(load_family("/no/such/file.fam"), std::invalid_argument);
 }
