@@ -127,6 +127,15 @@ bool prunable_file(const std::string& file) {
   return top == "stills" || top == "video";
 }
 
+// Removes a folder and all in it when it goes out of scope, however the scope is left (best effort).
+struct RemoveOnExit {
+  fs::path dir;
+  ~RemoveOnExit() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
 struct Package {
   std::string name, version;
   std::vector<std::size_t> rows;  // indices into the sources
@@ -166,13 +175,7 @@ struct Builder {
     const fs::path dl = cache / (std::string(kDownloadPrefix) + owner_tag() + "-" + sanitize(p.name));
     fs::remove_all(dl);
     fs::create_directories(dl);
-    struct Cleanup {
-      fs::path d;
-      ~Cleanup() {
-        std::error_code ec;
-        fs::remove_all(d, ec);
-      }
-    } cleanup{dl};
+    const RemoveOnExit cleanup{dl};
     const fs::path log = dl / "apt-get.log";
     const int rc = run_process({"apt-get", "download", "-q", p.name + "=" + p.version}, dl, log);
     if (rc != 0)
@@ -233,13 +236,7 @@ struct Builder {
     const fs::path tmp = opt.out / ".work" / sanitize(p.name);
     fs::remove_all(tmp);
     fs::create_directories(tmp);
-    struct Cleanup {
-      fs::path d;
-      ~Cleanup() {
-        std::error_code ec;
-        fs::remove_all(d, ec);
-      }
-    } cleanup{tmp};
+    const RemoveOnExit cleanup{tmp};
     const fs::path log = opt.out / ".work" / (sanitize(p.name) + ".log");
     const int rc = run_process({"dpkg-deb", "-x", fs::absolute(deb).string(), fs::absolute(tmp).string()}, ".", log);
     if (rc != 0)
@@ -370,11 +367,8 @@ void clear_leftovers(const fs::path& out, const fs::path& cache) {
     const std::string n = it->path().filename().string();
     if (n.rfind(kDownloadPrefix, 0) != 0) continue;
     const std::string rest = n.substr(std::string(kDownloadPrefix).size());  // PID-HOST-package
-    const auto dash1 = rest.find('-');
-    const auto dash2 = dash1 == std::string::npos ? std::string::npos : rest.find('-', dash1 + 1);
     std::error_code rec;
-    if (dash2 != std::string::npos && owner_is_gone(std::string_view(rest).substr(0, dash2)))
-      fs::remove_all(it->path(), rec);
+    if (owner_prefix_is_gone(rest)) fs::remove_all(it->path(), rec);
   }
   remove_stale_temporaries(cache);
 }

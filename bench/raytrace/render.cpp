@@ -195,11 +195,8 @@ void clear_dead_batches(const fs::path& dir) {
     if (n.rfind("batch-", 0) == 0) rest = n.substr(6);
     else if (n.rfind("tmp-", 0) == 0) rest = n.substr(4);
     else continue;
-    const auto dash1 = rest.find('-');
-    const auto dash2 = dash1 == std::string::npos ? std::string::npos : rest.find('-', dash1 + 1);
     std::error_code rec;
-    if (dash2 != std::string::npos && owner_is_gone(std::string_view(rest).substr(0, dash2)))
-      fs::remove(it->path(), rec);
+    if (owner_prefix_is_gone(rest)) fs::remove(it->path(), rec);
   }
   remove_stale_temporaries(dir);
 }

@@ -90,6 +90,12 @@ bool owner_is_gone(std::string_view tag) {
   return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
 }
 
+bool owner_prefix_is_gone(std::string_view name) {
+  const auto dash1 = name.find('-');
+  const auto dash2 = dash1 == std::string_view::npos ? std::string_view::npos : name.find('-', dash1 + 1);
+  return dash2 != std::string_view::npos && owner_is_gone(name.substr(0, dash2));
+}
+
 std::filesystem::path atomic_temporary(const std::filesystem::path& target, pid_t pid) {
   return target.string() + ".tmp." + owner_tag(pid > 0 ? pid : ::getpid());
 }

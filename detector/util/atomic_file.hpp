@@ -36,6 +36,9 @@ std::string owner_tag(pid_t pid);
 // True when `tag` names a process of this host that no longer exists. A tag of another host, of a
 // live process or of this process, or text that is not a tag, is never stale.
 bool owner_is_gone(std::string_view tag);
+// The same for a name that starts with an owner tag and a dash ("PID-HOST-rest", how work folders and
+// batch files are named); false when it does not.
+bool owner_prefix_is_gone(std::string_view name);
 
 // The temporary write_file_atomic uses for `target` in process `pid` (this process by default).
 std::filesystem::path atomic_temporary(const std::filesystem::path& target, pid_t pid = 0);
