@@ -14,15 +14,6 @@
 #include "candidates.hpp"
 #include "fuzz_util.hpp"
 
-namespace {
-
-void check_error(const std::exception& e, const std::string& name) {
-  const std::string what = e.what();
-  FUZZ_CHECK(what.rfind(name + ":", 0) == 0, "the error does not name the input: " + what);
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace tagbench::corpus;
   const std::string bytes(reinterpret_cast<const char*>(data), size);
@@ -38,10 +29,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         FUZZ_CHECK(s.settings.starts_with(detector_settings), "detector settings are not the settings' head");
       }
     } catch (const std::runtime_error& e) {
-      check_error(e, "fuzz.bin");
+      fuzz::check_error_names(e, "fuzz.bin");
     }
   } catch (const std::runtime_error& e) {
-    check_error(e, "fuzz.bin");
+    fuzz::check_error_names(e, "fuzz.bin");
   }
 
   try {
@@ -68,7 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       fuzz::check_failed("parse_candidate_index(candidate_index_tsv(images))", __FILE__, __LINE__, e.what());
     }
   } catch (const std::runtime_error& e) {
-    check_error(e, "fuzz.tsv");
+    fuzz::check_error_names(e, "fuzz.tsv");
   }
 
   try {
@@ -76,7 +67,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (const auto info = parse_shard_settings(settings, "fuzz.settings"))
       FUZZ_CHECK(info->shard.index < info->shard.count, "shard index out of range");
   } catch (const std::runtime_error& e) {
-    check_error(e, "fuzz.settings");
+    fuzz::check_error_names(e, "fuzz.settings");
   }
 
   try {

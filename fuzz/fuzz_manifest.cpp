@@ -13,15 +13,6 @@
 #include "fuzz_util.hpp"
 #include "sources.hpp"
 
-namespace {
-
-void check_error(const std::runtime_error& e, const std::string& name) {
-  const std::string what = e.what();
-  FUZZ_CHECK(what.rfind(name + ":", 0) == 0, "the error does not name the input: " + what);
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace tagbench::corpus;
   const std::string text(reinterpret_cast<const char*>(data), size);
@@ -51,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       fuzz::check_failed("parse_manifest(manifest_tsv(rows))", __FILE__, __LINE__, e.what());
     }
   } catch (const std::runtime_error& e) {
-    check_error(e, "manifest.tsv");
+    fuzz::check_error_names(e, "manifest.tsv");
   }
 
   try {
@@ -64,7 +55,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       FUZZ_CHECK(s.frame_step >= 0, "negative frame step");
     }
   } catch (const std::runtime_error& e) {
-    check_error(e, "sources.tsv");
+    fuzz::check_error_names(e, "sources.tsv");
   }
   return 0;
 }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <string>
 
 namespace fuzz {
@@ -50,3 +51,13 @@ class Reader {
   do {                                                                      \
     if (!(cond)) ::fuzz::check_failed(#cond, __FILE__, __LINE__, (what));  \
   } while (0)
+
+namespace fuzz {
+
+// A refusal must be one message that starts with the input's name and a colon ("NAME: problem").
+inline void check_error_names(const std::exception& e, const std::string& name) {
+  const std::string what = e.what();
+  FUZZ_CHECK(what.rfind(name + ":", 0) == 0, "the error does not name the input: " + what);
+}
+
+}  // namespace fuzz
