@@ -8,12 +8,24 @@ and the conditions beyond the paper), from the *_summary.csv files and their JSO
 
 One line per detector: the median over the frames it detected, with the 10-90 percentile band shaded
 (errors are drawn where at least 3 frames were detected); detection rates with their Wilson 95 %
-interval shaded. Usage: plot_raytrace.py RESULTS_DIR [angle|distance|conditions ...] (default: every
-experiment whose summary exists). Each PNG is written to a temporary and renamed."""
+interval shaded.
+
+Figs. 9 and 10 also draw the paper's own detector (Java AprilTag 1) and its comparator (ARToolKitPlus),
+run outside the build on the frames `make bench` renders (GPL code the project cannot ship; see
+../shared/reference/external_runs/README.md). Their CSVs are read from --external DIR (default: the
+folder shared/reference/external_runs beside the clone) and copied into RESULTS_DIR/external/, so a
+clone without that folder still plots them from there; they are drawn with a long-dash line and x
+markers, labelled "run outside the build", and carry per-step medians only (no bands). Each figure's
+sidecar, <stem>_plot.json, names the files it used and the legend entries it drew.
+
+Usage: plot_raytrace.py RESULTS_DIR [--external DIR] [angle|distance|conditions ...] (default: every
+experiment whose summary exists). Each PNG, CSV copy and sidecar is written to a temporary and renamed."""
 import csv
+import hashlib
 import json
 import math
 import os
+import shutil
 import sys
 
 import matplotlib
@@ -30,6 +42,30 @@ STYLE = {  # detector: (label, colour, line style)
     "aruco": ("OpenCV 4.6 aruco (APRILTAG refine)", "tab:green", "-"),
 }
 MIN_DETECTED_FOR_ERRORS = 3
+DEFAULT_EXTERNAL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "reference",
+                                "external_runs")
+# experiment: (file, setting, label, colour) per curve; the step column of each experiment.
+EXTERNAL = {
+    "angle": [
+        ("artoolkitplus_fig9_angle.csv", "full-autoseq",
+         "ARToolKitPlus (BCH, full res., auto threshold; run outside the build)", "saddlebrown"),
+        ("artoolkitplus_fig9_angle.csv", "half-fixed100",
+         "ARToolKitPlus as shipped (BCH, half res.; run outside the build)", "tab:pink"),
+    ],
+    "distance": [
+        ("java_apriltag1_fig10_distance.csv", "defaults",
+         "Java AprilTag 1 (paper's code, defaults; run outside the build)", "black"),
+        ("artoolkitplus_fig10_distance.csv", "full-autoseq",
+         "ARToolKitPlus (BCH, full res., auto threshold; run outside the build)", "saddlebrown"),
+        ("artoolkitplus_fig10_distance.csv", "half-fixed100",
+         "ARToolKitPlus as shipped (BCH, half res.; run outside the build)", "tab:pink"),
+    ],
+}
+EXTERNAL_STEP = {"angle": "phi_deg", "distance": "distance_m"}
+EXTERNAL_REQUIRED = ("detector", "setting", "frames", "right_id", "detection_rate")
+EXTERNAL_LINE = (0, (7, 3))  # long dashes: none of our detectors uses them
+# The external runs were made on the frames of `make bench`: these settings and the same steps.
+EXTERNAL_FRAMES = {"scene": "plain", "family": "36h11", "seed": 1, "trials": 50}
 CONDITION_LABELS = {
     "noise": "noise sigma (8-bit levels)",
     "blur": "blur sigma (px)",
@@ -94,6 +130,81 @@ def plot_rate(ax, sel, detector):
                     color=colour, alpha=0.07, linewidth=0)
 
 
+def plot_external(axes, curve):
+    """A run made outside the build: per-step medians (no bands), long dashes and x markers."""
+    label, colour, pts = curve["label"], curve["colour"], curve["points"]
+    kw = dict(color=colour, ls=EXTERNAL_LINE, marker="x", ms=4, lw=1.4)
+    for ax, column in zip(axes[:3], ("orientation_error_deg_median", "distance_error_percent_median",
+                                     "corner_rms_px_median")):
+        sel = [(x, number(r.get(column))) for x, r in pts if int(r["right_id"]) >= MIN_DETECTED_FOR_ERRORS]
+        sel = [(x, max(v, 1e-4)) for x, v in sel if not math.isnan(v)]
+        if sel:
+            ax.plot([p[0] for p in sel], [p[1] for p in sel], label=label, **kw)
+    axes[3].plot([x for x, _ in pts], [100 * float(r["detection_rate"]) for _, r in pts], label=label, **kw)
+
+
+def sha256(path):
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+def copy_atomic(src, dst):
+    os.makedirs(os.path.dirname(dst), exist_ok=True)
+    tmp = dst + ".tmp.csv"
+    shutil.copyfile(src, tmp)
+    os.replace(tmp, dst)
+
+
+def read_external(path, step_column):
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        missing = [c for c in EXTERNAL_REQUIRED + (step_column,) if c not in (reader.fieldnames or [])]
+        if missing:
+            sys.exit(f"plot_raytrace.py: {path}: no column {missing[0]} (an external run's CSV)")
+        rows = list(reader)
+    if not rows:
+        sys.exit(f"plot_raytrace.py: {path}: no rows")
+    for r in rows:
+        try:
+            float(r[step_column]), int(r["right_id"]), float(r["detection_rate"])
+        except ValueError:
+            sys.exit(f"plot_raytrace.py: {path}: a row with a non-numeric {step_column}, right_id or "
+                     "detection_rate")
+    return rows
+
+
+def external_curves(results, experiment, source_dir, meta):
+    """The external runs for this figure: each file is taken from source_dir when it is there (and
+    copied into results/external/), else from results/external/; returns (curves, sidecar entries)."""
+    curves, used = [], []
+    steps = sorted(float(x) for x in meta["settings"]["steps"])
+    same_settings = all(meta["settings"].get(k) == v for k, v in EXTERNAL_FRAMES.items())
+    for name in dict.fromkeys(spec[0] for spec in EXTERNAL.get(experiment, [])):
+        copy = os.path.join(results, "external", name)
+        src = os.path.join(source_dir, name) if source_dir else None
+        if src and os.path.isfile(src):
+            read_external(src, EXTERNAL_STEP[experiment])  # checked before it replaces the copy
+            copy_atomic(src, copy)
+            origin = os.path.relpath(os.path.abspath(src), os.path.dirname(os.path.abspath(results)))
+        elif os.path.isfile(copy):
+            origin = os.path.join(os.path.basename(os.path.normpath(results)), "external", name)
+        else:
+            continue
+        rows = read_external(copy, EXTERNAL_STEP[experiment])
+        drawn = []
+        for file, setting, label, colour in EXTERNAL[experiment]:
+            sel = [r for r in rows if file == name and r["setting"] == setting]
+            if not sel:
+                continue
+            pts = sorted(((float(r[EXTERNAL_STEP[experiment]]), r) for r in sel), key=lambda p: p[0])
+            curves.append({"label": label, "colour": colour, "points": pts})
+            drawn.append({"setting": setting, "detector": sel[0]["detector"], "label": label})
+        ext_steps = sorted({float(r[EXTERNAL_STEP[experiment]]) for r in rows})
+        used.append({"file": f"external/{name}", "read_from": origin, "sha256": sha256(copy), "curves": drawn,
+                     "same_frames_as_this_sweep": same_settings and ext_steps == steps})
+    return curves, used
+
+
 def settings_line(meta):
     s = meta["settings"]
     text = (f'{s["scene"]} scene, {s["family"]}, black square {s["tag_size_m"]:g} m, {s["trials"]} trials a step, '
@@ -103,22 +214,28 @@ def settings_line(meta):
     return text
 
 
-def sweep_figure(rows, meta, experiment, out):
-    fig, axes = plt.subplots(1, 3, figsize=(16, 5.2))
+def sweep_figure(rows, meta, experiment, out, external):
+    fig, grid = plt.subplots(2, 2, figsize=(15, 10.5))
+    axes = [grid[0][0], grid[0][1], grid[1][0], grid[1][1]]
     xlabel = "phi (degrees)" if experiment == "angle" else "distance (m)"
     for det in detectors_in(rows):
         sel = series(rows, det)
         plot_error(axes[0], sel, "orientation_error_deg", det)
         plot_error(axes[1], sel, "distance_error_percent", det)
-        plot_rate(axes[2], sel, det)
+        plot_error(axes[2], sel, "corner_rms_px", det)
+        plot_rate(axes[3], sel, det)
+    for curve in external:
+        plot_external(axes, curve)
     axes[0].set_ylabel("orientation error (degrees)")
     axes[0].set_title("Orientation error (median, 10-90 % band)")
     axes[1].set_ylabel("distance error (% of the distance)")
     axes[1].set_title("Distance error (median, 10-90 % band)")
-    axes[2].set_ylabel("detected with the right id (%)")
-    axes[2].set_title("Detection rate (Wilson 95 % band)")
-    axes[2].set_ylim(-3, 103)
-    for ax in axes[:2]:
+    axes[2].set_ylabel("corner error, RMS of the four corners (px)")
+    axes[2].set_title("Corner error (median, 10-90 % band)")
+    axes[3].set_ylabel("detected with the right id (%)")
+    axes[3].set_title("Detection rate (Wilson 95 % band)")
+    axes[3].set_ylim(-3, 103)
+    for ax in axes[:3]:
         ax.set_yscale("log")
     steps = sorted({float(r["step"]) for r in rows})
     for ax in axes:
@@ -142,13 +259,20 @@ def sweep_figure(rows, meta, experiment, out):
             top = ax.secondary_xaxis("top", functions=(to_px, to_px))
             top.set_ticks(ticks)
             top.set_xlabel("black square width (px), face-on")
-    axes[2].legend(fontsize=8, loc="lower left")
+    # One legend for the four panels, below them: inside a panel it would hide the curves.
+    handles, labels = axes[3].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3 if len(labels) > 5 else len(labels), fontsize=9)
     title = ("Fig. 9 reproduced: localization against phi, the angle between the tag's normal and the direction "
              "to the camera" if experiment == "angle"
              else "Fig. 10 reproduced: localization against distance")
-    fig.suptitle(title + "\n" + settings_line(meta), fontsize=10)
-    fig.tight_layout()
+    note = ""
+    if external:
+        note = ("\nLong dashes, x markers: detectors run outside the build (GPL, not shipped) on the frames "
+                "`make bench` renders; per-step medians, no bands")
+    fig.suptitle(title + "\n" + settings_line(meta) + note, fontsize=10)
+    fig.tight_layout(rect=(0, 0.027 * math.ceil(len(labels) / 3) + 0.01, 1, 1))
     save(fig, out)
+    return labels
 
 
 def conditions_figure(rows, meta, out):
@@ -192,9 +316,43 @@ def save(fig, out):
     os.replace(tmp, out)
 
 
+def write_sidecar(results, experiment, meta, legend, used):
+    stem = STEMS[experiment]
+    doc = {"tool": "scripts/plot_raytrace.py", "figure": stem + ".png",
+           "inputs": [stem + "_summary.csv", stem + ".json"],
+           "external_runs": used,
+           "external_note": ("runs made outside the build on the frames `make bench` renders, read from "
+                             "../shared/reference/external_runs when it is there (then copied into "
+                             "external/), else from external/; see that folder's README.md"),
+           "legend": legend}
+    path = os.path.join(results, stem + "_plot.json")
+    tmp = path + ".tmp.json"
+    with open(tmp, "w") as f:
+        json.dump(doc, f, indent=2)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def parse_args(argv):
+    results, external, wanted = None, DEFAULT_EXTERNAL, []
+    i = 0
+    while i < len(argv):
+        if argv[i] == "--external":
+            if i + 1 >= len(argv):
+                sys.exit("plot_raytrace.py: --external needs a folder")
+            external = argv[i + 1]
+            i += 2
+            continue
+        if results is None:
+            results = argv[i]
+        else:
+            wanted.append(argv[i])
+        i += 1
+    return results or "results", external, wanted
+
+
 def main():
-    results = sys.argv[1] if len(sys.argv) > 1 else "results"
-    wanted = sys.argv[2:]
+    results, external_dir, wanted = parse_args(sys.argv[1:])
     for w in wanted:
         if w not in STEMS:
             sys.exit(f"plot_raytrace.py: unknown experiment '{w}' (angle, distance, conditions)")
@@ -211,7 +369,9 @@ def main():
         if experiment == "conditions":
             conditions_figure(rows, meta, out)
         else:
-            sweep_figure(rows, meta, experiment, out)
+            curves, used = external_curves(results, experiment, external_dir, meta)
+            legend = sweep_figure(rows, meta, experiment, out, curves)
+            write_sidecar(results, experiment, meta, legend, used)
 
 
 if __name__ == "__main__":
