@@ -41,6 +41,8 @@ RT_CACHE=$BUILD/raytrace-cache
 "$BIN" raytrace angle --trials 50 --cache "$RT_CACHE" --out results
 "$BIN" raytrace distance --trials 50 --cache "$RT_CACHE" --out results
 "$BIN" raytrace conditions --trials 50 --cache "$RT_CACHE" --out results
+# Figs. 9 and 10 also draw the paper's Java AprilTag 1 and ARToolKitPlus, run outside the build on these
+# frames: read from ../shared/reference/external_runs/ when it is there, else from results/external/.
 "$PY" scripts/plot_raytrace.py results angle distance conditions
 
 echo "bench: detection peak memory at 640x480, 1920x1080 and 8000x8000" >&2
