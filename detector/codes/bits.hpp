@@ -13,6 +13,10 @@ namespace tagbench {
 
 using Code = std::uint64_t;
 
+// The widest payload: d x d bits must fit in a Code (8 x 8 = 64). Families, the lexicode generator,
+// the complexity tables and the payload reader all stop here.
+inline constexpr int kMaxPayloadWidth = 8;
+
 // "0x1f": how codes are written in family files and messages.
 inline std::string hex_code(Code c) {
   char buf[24];
