@@ -12,7 +12,7 @@
 
 namespace tagbench {
 
-// Full complexity of word v with payload width d (2 <= d <= 8).
+// Full complexity of word v with payload width d (2 <= d <= kMaxPayloadWidth).
 int rectangle_complexity(Code v, int d);
 
 // True when rectangle_complexity(v, d) >= at_least; stops painting as soon as that is certain.
