@@ -40,7 +40,7 @@ namespace tagbench {
 
 struct DetectorOptions {
   std::vector<std::string> families = {"36h11"};  // built-in names or family files
-  int max_hamming = 1;           // bits corrected at most (NOTES default)
+  int max_hamming = 1;           // bits corrected at most (Java default; docs/paper-to-code.md section 1)
   // Beyond the paper: drop detections whose decision_margin (payload_decode.hpp) is below this, in
   // [0, 1]; 0 keeps every one (the paper's detector). Applied to the final detections, after
   // duplicates are merged, so a run at 0 whose detections are then filtered at m gives exactly what a
