@@ -19,13 +19,9 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "detect/blur.hpp"
-#include "detect/gradient.hpp"
+#include "detect/find_quads_in_image.hpp"
 #include "detect/homography.hpp"
-#include "detect/line_fit.hpp"
 #include "detect/payload_decode.hpp"
-#include "detect/quad_search.hpp"
-#include "detect/segmentation.hpp"
 #include "scan.hpp"
 #include "sources.hpp"
 #include "util/atomic_file.hpp"
@@ -86,25 +82,18 @@ std::vector<CandidateRecord> image_candidates(const ImageF& gray, std::uint32_t 
   if (static_cast<long long>(gray.width) * gray.height > opt.max_pixels)
     throw std::invalid_argument("image " + std::to_string(gray.width) + "x" + std::to_string(gray.height) +
                                 " is over the memory limit of " + std::to_string(opt.max_pixels) + " pixels");
-  // The detector's stages 1-5 (detector.cpp), with the same options.
-  const bool halve = opt.half_resolution && gray.width >= 4 && gray.height >= 4;
-  const ImageF seg_in = halve ? blur_and_halve(gray, opt.seg_sigma) : gaussian_blur(gray, opt.seg_sigma);
-  const ImageF dec_in = opt.decode_sigma > 0 ? gaussian_blur(gray, opt.decode_sigma) : ImageF();
-  const ImageF& decode_image = opt.decode_sigma > 0 ? dec_in : gray;
-  const Gradients g = compute_gradients(seg_in, opt.segmentation.min_mag);
-  const Clusters clusters = segment_clusters(g, opt.segmentation);
-  std::vector<Segment> segments = fit_segments(clusters, opt.line_fit);
-  if (halve)
-    for (auto& s : segments) s = segment_full_from_half(s);
-  const std::vector<Quad> quads = find_quads(segments, opt.quad_search);
+  // The detector's stages 1-5, the same function Detector::detect calls.
+  DetectorWorkspace workspace;
+  const FoundQuads found = find_quads_in_image(gray, opt, workspace);
+  const std::vector<Quad>& quads = found.quads;
+  const ImageF& decode_image = *found.decode_image;
   if (quad_count) *quad_count = quads.size();
 
-  // The detector's pre-filters (quick_reject's border contrast test) are NOT applied here: the
+  // The detector's border pre-filter (PayloadOptions::quick_reject) is NOT applied here: the
   // paper's false-positive measurement counts every candidate quad whose payload can be read, so
-  // every quad goes to read_payload with quick_reject off. read_payload itself still refuses a quad
-  // whose cells leave the image or whose border gives no usable (contrasting) model.
-  PayloadOptions payload = opt.payload;
-  payload.quick_reject = false;
+  // every quad goes to read_payload. read_payload itself still refuses a quad whose cells leave
+  // the image or whose border gives no usable (contrasting) model.
+  const PayloadOptions& payload = opt.payload;
   std::vector<CandidateRecord> out;
   out.reserve(quads.size() * kCandidateWidths.size());
   for (const Quad& q : quads) {

@@ -149,6 +149,12 @@ void args_seeds() {
   put("args", "unknown_option", detect_specs + words({"--bogus", "1"}));
   put("args", "missing_value", detect_specs + words({"--max-hamming"}));
   put("args", "no_specs", std::string("\x00", 1) + words({"a", "b", "-", "--"}));
+  // Numbers fill DetectorOptions' fields in fuzz_args.cpp's table order: valid values, then bad ones.
+  put("args", "detector_options",
+      std::string("\x00", 1) + words({"1", "0.5", "0.8", "0", "0.004", "0.5", "100", "100", "1200", "4", "4", "2",
+                                       "6", "32", "-7", "-5", "10", "200000", "0.02", "500", "500", "319.5",
+                                       "239.5", "0.166", "-0.2", "0.05", "0.001", "0.001", "0.01", "1000000"}));
+  put("args", "detector_options_bad", std::string("\x00", 1) + words({"11", "nan", "-1", "inf", "1e300"}));
 }
 
 void manifest_seeds() {

@@ -45,7 +45,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The render settings of NOTES section 4 (besides the animation and thread flags); part of every key.
+// The render settings of docs/paper-to-code.md section 4 (besides the animation and thread flags); part of every key.
 const char* const kRenderFlags[] = {"+FN", "-D", "+W400", "+H400", "+A0.1", "+AM2", "+R3", "File_Gamma=1.0", "-V"};
 constexpr const char* kPlaceholder = "@FRAME_SWITCH@";
 

@@ -13,6 +13,10 @@ namespace tagbench {
 
 using Code = std::uint64_t;
 
+// The widest payload: d x d bits must fit in a Code (8 x 8 = 64). Families, the lexicode generator,
+// the complexity tables and the payload reader all stop here.
+inline constexpr int kMaxPayloadWidth = 8;
+
 // "0x1f": how codes are written in family files and messages.
 inline std::string hex_code(Code c) {
   char buf[24];
@@ -39,7 +43,7 @@ constexpr int cell_bit(int d, int y, int x) { return d * d - 1 - (y * d + x); }
 
 // Rotates a payload by 90 degrees clockwise as printed: the new top row is the old left column read
 // bottom to top, i.e. rotated(y, x) = original(d-1-x, y). This is the original generator's rotate90
-// (NOTES section 2), so families built with it are bit-exact with the published ones.
+// (docs/paper-to-code.md section 2), so families built with it are bit-exact with the published ones.
 constexpr Code rotate90(Code w, int d) {
   Code wr = 0;
   for (int r = d - 1; r >= 0; --r)

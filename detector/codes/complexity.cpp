@@ -3,6 +3,8 @@
 #include <array>
 #include <bit>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace tagbench {
@@ -26,15 +28,16 @@ struct RectTable {
 
 const RectTable& rects_for(int d) {
   // Built once per width on first use; immutable afterwards (thread-safe static init).
-  static const std::array<RectTable, 9> tables = {RectTable(0), RectTable(1), RectTable(2),
-                                                  RectTable(3), RectTable(4), RectTable(5),
-                                                  RectTable(6), RectTable(7), RectTable(8)};
-  return tables[d];
+  static const auto tables = []<std::size_t... D>(std::index_sequence<D...>) {
+    return std::array<RectTable, sizeof...(D)>{RectTable(static_cast<int>(D))...};
+  }(std::make_index_sequence<kMaxPayloadWidth + 1>());
+  return tables[static_cast<std::size_t>(d)];
 }
 
 // Paints greedily; returns the number of rectangles, or stops early at `limit`.
 int paint(Code target, int d, int limit) {
-  if (d < 1 || d > 8) throw std::invalid_argument("rectangle_complexity: payload width must be 1..8");
+  if (d < 1 || d > kMaxPayloadWidth)
+    throw std::invalid_argument("rectangle_complexity: payload width must be 1.." + std::to_string(kMaxPayloadWidth));
   const Code all = low_mask(d * d);
   const auto& masks = rects_for(d).masks;
   Code painted = 0, colour = 0;  // colour is meaningful only where painted

@@ -1,5 +1,5 @@
 #pragma once
-// Rectangle-covering complexity of a payload (paper section V-A, NOTES section 2).
+// Rectangle-covering complexity of a payload (paper section V-A; docs/paper-to-code.md section 2).
 //
 // The number of rectangles a greedy painter needs to reproduce the d x d pattern: every cell starts
 // unpainted (wrong); each step paints the rectangle and colour that gains the most right cells
@@ -12,7 +12,7 @@
 
 namespace tagbench {
 
-// Full complexity of word v with payload width d (2 <= d <= 8).
+// Full complexity of word v with payload width d (2 <= d <= kMaxPayloadWidth).
 int rectangle_complexity(Code v, int d);
 
 // True when rectangle_complexity(v, d) >= at_least; stops painting as soon as that is certain.

@@ -1,5 +1,5 @@
 #pragma once
-// java.util.Random, just enough to seed the lexicode generator like the original (NOTES section 2):
+// java.util.Random, just enough to seed the lexicode generator like the original (docs/paper-to-code.md section 2):
 // a 48-bit linear congruential generator; nextLong() = (next(32) << 32) + next(32), the second int
 // sign-extended.
 #include <cstdint>

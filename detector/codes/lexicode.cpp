@@ -21,7 +21,7 @@ CandidateOrder parse_candidate_order(const std::string& s) {
 }
 
 int LexicodeParams::payload_width() const {
-  for (int d = 1; d <= 8; ++d)
+  for (int d = 1; d <= kMaxPayloadWidth; ++d)
     if (d * d == bits) return d;
   return -1;
 }
@@ -37,8 +37,9 @@ std::int64_t LexicodeParams::resolved_seed() const {
 void LexicodeParams::validate() const {
   const int d = payload_width();
   if (bits > 64) throw std::invalid_argument("bits " + std::to_string(bits) + " is over 64");
-  if (d < 3 || d > 8)
-    throw std::invalid_argument("bits " + std::to_string(bits) + " is not the square of a payload width 3..8");
+  if (d < 3 || d > kMaxPayloadWidth)
+    throw std::invalid_argument("bits " + std::to_string(bits) + " is not the square of a payload width 3.." +
+                                std::to_string(kMaxPayloadWidth));
   if (min_hamming < 1 || min_hamming > bits)
     throw std::invalid_argument("hamming " + std::to_string(min_hamming) + " is outside 1.." + std::to_string(bits));
   if (min_complexity < -1 || min_complexity > bits)

@@ -1,5 +1,5 @@
 #pragma once
-// The paper's modified lexicode generator (section V-A; recipe in NOTES section 2).
+// The paper's modified lexicode generator (section V-A; recipe in docs/paper-to-code.md section 2).
 //
 // Candidates are visited in the order v_k = (V0 + k p) mod 2^n (p = 982451653, V0 from
 // java.util.Random(seed).nextLong(), "prime" order) or 0, 1, 2, ... ("lex" order). A candidate is

@@ -1,6 +1,6 @@
 #pragma once
 // The rival 36-bit codebooks of the paper (Fig. 5, Fig. 7 and the encoding table), built from their
-// specifications (NOTES section 3), in AprilTag 1 order (bit 35 = top-left cell, 1 = white).
+// specifications (docs/paper-to-code.md section 3), in AprilTag 1 order (bit 35 = top-left cell, 1 = white).
 #include <vector>
 
 #include "codes/bits.hpp"

@@ -13,7 +13,7 @@ namespace tagbench {
 
 namespace {
 int width_of(int bits) {
-  for (int d = 1; d <= 8; ++d)
+  for (int d = 1; d <= kMaxPayloadWidth; ++d)
     if (d * d == bits) return d;
   return -1;
 }

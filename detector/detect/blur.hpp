@@ -1,6 +1,6 @@
 #pragma once
-// Low-pass filtering and 2x decimation before segmentation (paper section III-A; NOTES section 1:
-// segSigma = 0.8, segDecimate).
+// Low-pass filtering and 2x decimation before segmentation (paper section III-A; segSigma = 0.8,
+// segDecimate: docs/paper-to-code.md section 1).
 //
 // Conventions (see image.hpp): pixel centres at integer coordinates, x right, y down.
 //
@@ -19,7 +19,7 @@
 
 namespace tagbench {
 
-// The paper's recommended blur for segmentation (NOTES: segSigma).
+// The paper's recommended blur for segmentation (paper section III-A; docs/paper-to-code.md section 1).
 inline constexpr double kSegSigma = 0.8;
 
 // Kernel radius ceil(3 sigma); 0 for sigma <= 0.

@@ -1,7 +1,14 @@
 #pragma once
 // The paper's detector (sections III and IV) as one object: image -> gradients -> clusters ->
 // segments -> quads -> decoded tags -> poses. Every stage is its own unit (blur, gradient,
-// segmentation, line_fit, quad_search, homography, payload_decode, pose); this file only wires them.
+// segmentation, line_fit, quad_search, homography, payload_decode, pose); the pipeline is the
+// composition of four functions over them, each in its own file:
+//   find_quads_in_image   stages 1-5: blur (and halve), gradients, clusters, segments, quads
+//   decode_quads          stage 6: border pre-filter, payload readings, the best family's decode
+//   suppress_duplicates   one detection per tag; then drop_below_margin (min_decision_margin)
+//   estimate_poses        stage 7: undistort, pose
+// Detector::detect is that list of calls plus timings and the trace; another detector profile is
+// another composition of these (or other options of a stage), not a branch inside it.
 //
 // Conventions: pixel centres at integer coordinates; camera frame x right, y down, z forward; tag
 // frame origin at the centre, x toward the printed right edge, y toward the bottom edge, z into the
@@ -11,6 +18,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -32,7 +40,7 @@ namespace tagbench {
 
 struct DetectorOptions {
   std::vector<std::string> families = {"36h11"};  // built-in names or family files
-  int max_hamming = 1;           // bits corrected at most (NOTES default)
+  int max_hamming = 1;           // bits corrected at most (Java default; docs/paper-to-code.md section 1)
   // Beyond the paper: drop detections whose decision_margin (payload_decode.hpp) is below this, in
   // [0, 1]; 0 keeps every one (the paper's detector). Applied to the final detections, after
   // duplicates are merged, so a run at 0 whose detections are then filtered at m gives exactly what a
@@ -62,11 +70,36 @@ struct DetectorOptions {
   // is not counted (OpenCV's imread has its own limit, OPENCV_IO_MAX_IMAGE_PIXELS, 2^30 by
   // default). Allowed values: 1..kMaxPixelsCeiling; the constructor refuses others.
   long long max_pixels = 100'000'000;
+
+  // Checks every numeric field, nested options included, and throws std::invalid_argument with one
+  // line naming the first bad field as it is spelt here and its value,
+  // "FIELD = VALUE: RULE" (e.g. "quad_search.grid_cell = 0: must be finite and > 0"). The domains:
+  //   families                non-empty; max_hamming 0..max(0, h - 1), h the smallest minimum
+  //                           Hamming distance of the families (at h or more bits a code's acceptance
+  //                           ball holds other codes of its family: nothing would be an error any more);
+  //   min_decision_margin     [0, 1]; seg_sigma, decode_sigma: finite, >= 0;
+  //   segmentation            min_mag, k_theta, k_mag finite >= 0; max_edge_cost in (0, pi];
+  //                           weight_scale 1..kMaxWeightScale; min_cluster_size >= 1;
+  //   line_fit.min_length     finite >= 0;
+  //   quad_search             close_enough one of the rules; min_tag_size, grid_cell finite > 0;
+  //                           max_aspect finite >= 1; winding_min < winding_max, both finite; max_quads >= 1;
+  //   payload.min_contrast    [0, 1];
+  //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
+  //                           without; distortion only with a camera, finite;
+  //   max_pixels              1..kMaxPixelsCeiling.
+  // validate() loads `families` (load_family, whose errors name the family) for the max_hamming
+  // rule; validate(loaded) takes them already loaded, in the same order. Detector's constructor calls it.
+  void validate() const;
+  void validate(std::span<const TagFamily> loaded) const;
 };
 
 // Pixel indices are 32-bit in the segmentation (graph edges, union-find), so no option can raise
 // the limit past 2^31 - 1 pixels.
 inline constexpr long long kMaxPixelsCeiling = 2'147'483'647;
+
+// SegmentationOptions::weight_scale's ceiling: the counting sort's histogram has weight_scale + 1
+// entries per frame; 2^16 levels of direction difference are already finer than the float angles.
+inline constexpr int kMaxWeightScale = 1 << 16;
 
 struct StageTimings {  // milliseconds, for the whole frame
   double blur = 0, gradient = 0, segmentation = 0, line_fit = 0, quads = 0, decode = 0, pose = 0, total = 0;
@@ -125,15 +158,27 @@ class DetectorWorkspace {
   std::size_t capacity_bytes() const;  // sum over buffers()
   void release();                      // frees every buffer
 
- private:
-  friend class Detector;
+  // The buffers themselves (detect/workspace_impl.hpp), for the pipeline's stages
+  // (find_quads_in_image.hpp); a moved-from workspace gets fresh ones.
   struct Impl;
+  Impl& impl();
+
+ private:
   std::unique_ptr<Impl> impl_;
 };
 
+struct FoundQuads;  // find_quads_in_image.hpp
+
+// Stages 1-5 as a replaceable function (the seam for other detector profiles): find_quads_in_image
+// is the paper's; any function over the same types can take its place in the pipeline.
+using QuadFinder = FoundQuads (*)(const ImageF& gray, const DetectorOptions& opt, DetectorWorkspace& workspace,
+                                  StageTimings* timings, DetectorTrace* trace);
+
 class Detector {
  public:
-  explicit Detector(DetectorOptions options);  // throws std::invalid_argument on bad options or families
+  // Loads the families (load_family) and validates the options (DetectorOptions::validate); throws
+  // std::invalid_argument on a family that cannot be loaded or on a bad option.
+  explicit Detector(DetectorOptions options);
 
   // Detects tags in an 8-bit or 16-bit, gray or colour image. Const and thread-safe: any number of
   // threads may call it at once (each with its own workspace, if any). Throws std::invalid_argument
@@ -159,6 +204,7 @@ class Detector {
 
   DetectorOptions opt_;
   std::vector<TagFamily> families_;
+  QuadFinder find_quads_;  // stages 1-5 of this detector's profile
 };
 
 }  // namespace tagbench

@@ -1,8 +1,8 @@
 #pragma once
-// Per-pixel image gradients (paper section III-A, Fig. 3; NOTES section 1: minMag).
+// Per-pixel image gradients (paper section III-A, Fig. 3; minMag: docs/paper-to-code.md section 1).
 //
 // Conventions (see image.hpp): intensities in [0, 1], x right, y down, pixel centres at integers.
-// Central differences WITHOUT the 1/2 factor, as in NOTES:
+// Central differences WITHOUT the 1/2 factor, as Java computes them (docs/paper-to-code.md section 1):
 //   Ix = I(x+1, y) - I(x-1, y),   Iy = I(x, y+1) - I(x, y-1),
 //   mag   = Ix^2 + Iy^2           (the SQUARED magnitude; segmentation's min_mag 0.004 is on this),
 //   theta = atan2(Iy, Ix)         in (-pi, pi]; the gradient points from dark towards light, and

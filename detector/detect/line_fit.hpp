@@ -1,6 +1,6 @@
 #pragma once
-// Fitting a directed line segment to each cluster (paper section III-A, Fig. 3; NOTES section 1:
-// min line length 4 px).
+// Fitting a directed line segment to each cluster (paper section III-A, Fig. 3; min line length 4 px:
+// docs/paper-to-code.md section 1).
 //
 // Conventions: x right, y down, pixel centres at integer coordinates (see image.hpp).
 //
@@ -18,7 +18,7 @@
 // i.e. d is the mean gradient direction turned by -pi/2 (theta_segment ~ theta_gradient - pi/2).
 // Consequence: walking around a dark blob on a light background the segments go counter-clockwise
 // on screen, and each turn from one side to the next has cross(d_k, d_k+1) < 0 in image
-// coordinates (turning angles sum to about -2 pi: NOTES' winding range [-7, -5]).
+// coordinates (turning angles sum to about -2 pi: the winding range [-7, -5] of docs/paper-to-code.md section 1).
 #include <optional>
 #include <span>
 #include <vector>
@@ -37,7 +37,7 @@ struct Segment {
 };
 
 struct LineFitOptions {
-  double min_length = 4.0;  // NOTES: min line length, in pixels of the image the clusters came from
+  double min_length = 4.0;  // Java default (docs/paper-to-code.md section 1), in pixels of the image the clusters came from
 };
 
 // The directed segment of one cluster; nullopt when the cluster is empty or has zero total weight.

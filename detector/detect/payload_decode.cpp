@@ -67,22 +67,10 @@ std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vector2d& p
 
 std::optional<PayloadReading> read_payload(const ImageF& img, const Eigen::Matrix3d& H, int d,
                                            const PayloadOptions& opt, bool keep_points) {
-  if (d < 1 || d > 8) return std::nullopt;
+  if (d < 1 || d > kMaxPayloadWidth) return std::nullopt;
   const int n = d + 4;
   const double cell = 2.0 / (d + 2);
   const auto centre = [&](int g) { return -1.0 + (g - 0.5) * cell; };
-  if (opt.quick_reject) {
-    // Side midpoints: (0, -1) top, (1, 0) right, (0, 1) bottom, (-1, 0) left, at the ring cell centres.
-    const double w_off = 1 + 0.5 * cell, b_off = 1 - 0.5 * cell;
-    const Eigen::Vector2d sides[4] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
-    int good = 0;
-    for (const auto& u : sides) {
-      const auto vw = sample_bilinear(img, apply_homography(H, w_off * u));
-      const auto vb = sample_bilinear(img, apply_homography(H, b_off * u));
-      if (vw && vb && *vw - *vb >= opt.min_contrast) ++good;
-    }
-    if (good < 3) return std::nullopt;
-  }
   PayloadReading r;
   std::vector<Eigen::Vector3d> white, black;
   for (int gy = 0; gy < n; ++gy)

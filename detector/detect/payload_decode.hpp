@@ -24,9 +24,11 @@ namespace tagbench {
 
 struct PayloadOptions {
   double min_contrast = 0.02;  // white minus black model at the tag centre, on [0, 1] intensities
-  // Beyond the paper, for speed: before sampling every cell, compare the white and the black ring at
-  // the middle of each side; a tag has white brighter than black by min_contrast on at least 3 of
-  // the 4 sides (3, so that one occluded side still passes). Most false quads fail this 8-sample test.
+  // Beyond the paper, for speed: apply border_contrast_plausible (below) to each quad before its
+  // homography and payload are computed (decode_quads.hpp does; read_payload itself ignores this
+  // field). A tag has its white ring brighter than its black ring by min_contrast at the middle of
+  // at least 3 of its 4 sides (3, so that one occluded side still passes); most false quads fail
+  // this 8-sample test.
   bool quick_reject = true;
 };
 
@@ -48,9 +50,10 @@ bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector
 // Bilinear intensity at a sub-pixel point; nullopt outside [0, w-1] x [0, h-1].
 std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vector2d& p);
 
-// Reads a d x d payload through the homography H (tag square [-1,1]^2 -> image). nullopt when a
-// payload cell falls outside the image, when the border gives no usable model, or when the black
-// border is not darker than the white one by min_contrast.
+// Reads a d x d payload (1 <= d <= kMaxPayloadWidth) through the homography H (tag square
+// [-1,1]^2 -> image). nullopt when a payload cell falls outside the image, when the border gives
+// no usable model, or when the black border is not darker than the white one by opt.min_contrast
+// (opt.quick_reject plays no part here).
 std::optional<PayloadReading> read_payload(const ImageF& img, const Eigen::Matrix3d& H, int d,
                                            const PayloadOptions& opt = {}, bool keep_points = false);
 

@@ -6,7 +6,7 @@
 // Depth 1 tries every segment; depths 2-4 try the segments that start "close enough" to where the
 // previous one ended (a 2D lookup grid of segment starts answers that), turn the right way, and are
 // not used yet; the fourth must end close enough to the first one's start, and the four turning
-// angles must sum to one consistent turn (NOTES: [-7, -5] rad). Corners are the intersections of the
+// angles must sum to one consistent turn ([-7, -5] rad: docs/paper-to-code.md section 1). Corners are the intersections of the
 // fitted lines, so they are accurate to a fraction of a pixel.
 //
 // Output corners are in the tag's corner order convention for a quad read with its first corner as
@@ -28,10 +28,10 @@ enum class CloseEnoughRule {
 
 struct QuadSearchOptions {
   CloseEnoughRule close_enough = CloseEnoughRule::kPaper2011;
-  double min_tag_size = 6.0;       // px: every side and both diagonals at least this long (NOTES)
-  double max_aspect = 32.0;        // longest side / shortest side (NOTES)
-  double winding_min = -7.0, winding_max = -5.0;  // sum of the four turning angles, radians (NOTES)
-  double grid_cell = 10.0;         // px, lookup grid cell (NOTES)
+  double min_tag_size = 6.0;       // px: every side and both diagonals at least this long (Java default: docs/paper-to-code.md section 1)
+  double max_aspect = 32.0;        // longest side / shortest side (Java default: docs/paper-to-code.md section 1)
+  double winding_min = -7.0, winding_max = -5.0;  // sum of the four turning angles, radians (Java: docs/paper-to-code.md section 1)
+  double grid_cell = 10.0;         // px, lookup grid cell (Java default: docs/paper-to-code.md section 1)
   std::size_t max_quads = 200000;  // a hard cap so adversarial images cannot explode the search
   // Beyond the paper: each segment must lie on its own side of the quad (the side runs the segment's
   // way, dark on the left, and the segment's midpoint projects between the side's two corners). The

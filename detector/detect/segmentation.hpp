@@ -1,5 +1,6 @@
 #pragma once
-// Graph-based clustering of edge pixels (paper section III-A, after Felzenszwalb; NOTES section 1).
+// Graph-based clustering of edge pixels (paper section III-A, after Felzenszwalb; constants:
+// docs/paper-to-code.md section 1).
 //
 // Conventions: input is compute_gradients() output (squared magnitude, theta in (-pi, pi]),
 // x right, y down, pixel centres at integer coordinates; pixel index i = y * width + x.

@@ -115,8 +115,8 @@ TEST(ComparatorSetup, WithoutACameraThereIsNoPoseAndBadSetupsAreRefused) {
 }
 
 // aruco-default (CORNER_REFINE_NONE) misses the ray-traced frames' tag (one white ring cell on a
-// dark floor, NOTES), so its convention is proved on synthetic scenes instead: its corners are
-// integer-pixel contour corners, noisy by up to a pixel, but unbiased in our convention, so their
+// dark floor, docs/paper-to-code.md section 5), so its convention is proved on synthetic scenes
+// instead: its corners are integer-pixel contour corners, noisy by up to a pixel, but unbiased in our convention, so their
 // mean offset from the truth is near 0; the [i, i+1) shift that `aruco` needs would leave -0.5.
 TEST(ArucoDefault, CornersAreInOurConventionOnAverageAndInPrintedOrder) {
   cv::setNumThreads(1);

@@ -65,7 +65,7 @@ TEST(Lexicode, DefaultsAreTheOriginals) {
   EXPECT_EQ(params(36, 15).resolved_seed(), 361510);
 }
 
-// The published families (NOTES section 2): counts and first codes; whole lists by checksum.
+// The published families (docs/paper-to-code.md section 2): counts and first codes; whole lists by checksum.
 TEST(Lexicode, Reproduces16h5) {
   const auto c = generate_lexicode(params(16, 5));
   ASSERT_EQ(c.size(), 30u);
@@ -187,7 +187,7 @@ TEST(PrefixBuckets, AgreesWithALinearScan) {
   EXPECT_FALSE(PrefixBuckets(w64, 64).any_within(0x00000000ffff0000ULL, 3));
 }
 
-// The shipped 36h9 (a 1.6 h run here) begins with NOTES' first three codes, and the generator run
+// The shipped 36h9 (a 1.6 h run here) begins with the published first three codes (docs/paper-to-code.md section 2), and the generator run
 // afresh gives the same first codes; its size (5368) is not the published 5329 (README says why
 // that cannot be settled from public facts).
 TEST(Lexicode, Shipped36h9BeginsAsPublishedAndAsTheGeneratorDoes) {

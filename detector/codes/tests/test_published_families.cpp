@@ -64,7 +64,7 @@ TEST(PublishedFamilies, ShippedFamiliesEqualLibapriltagTables) {
 }
 
 TEST(PublishedFamilies, FirstCodesOfNotes) {
-  // NOTES section 2, for families libapriltag does not ship.
+  // docs/paper-to-code.md section 2, for families libapriltag does not ship.
   const auto& f = builtin_family("25h7");
   ASSERT_EQ(f.size(), 242u);
   EXPECT_EQ(f.codes()[0], 0x4b770du);

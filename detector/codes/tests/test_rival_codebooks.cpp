@@ -60,7 +60,7 @@ TEST(RivalCodebooks, ArtagMatchesTheReferenceList) {
 }
 
 TEST(RivalCodebooks, MinimumDistancesAsMeasured) {
-  // NOTES section 3: simple 4, BCH 2, ARTag 4 (with rotations).
+  // docs/paper-to-code.md section 3: simple 4, BCH 2, ARTag 4 (with rotations).
   const std::pair<const char*, int> expected[] = {
       {"artoolkitplus-simple", 4}, {"artoolkitplus-bch", 2}, {"artag", 4}};
   for (const auto& [name, h] : expected) {

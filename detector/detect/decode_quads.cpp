@@ -1,0 +1,60 @@
+#include "detect/decode_quads.hpp"
+
+#include <algorithm>
+#include <array>
+#include <optional>
+
+#include "codes/bits.hpp"
+#include "detect/homography.hpp"
+
+namespace tagbench {
+
+std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
+                                    std::span<const TagFamily> families, int max_hamming,
+                                    const PayloadOptions& payload, std::vector<PayloadReading>* readings) {
+  std::vector<Detection> found;
+  int max_d = 0;
+  for (const TagFamily& f : families) max_d = std::max(max_d, f.payload_width());
+  for (const Quad& q : quads) {
+    if (payload.quick_reject && !border_contrast_plausible(decode_image, q.corners, max_d, payload.min_contrast))
+      continue;
+    const auto H = tag_homography(q.corners);
+    if (!H) continue;
+    std::array<std::optional<PayloadReading>, kMaxPayloadWidth + 1> by_width;  // one reading per payload width d
+    std::array<bool, kMaxPayloadWidth + 1> read{};
+    Detection best;
+    bool have = false;
+    for (const TagFamily& f : families) {
+      const auto d = static_cast<std::size_t>(f.payload_width());
+      if (!read[d]) {
+        by_width[d] = read_payload(decode_image, *H, static_cast<int>(d), payload, readings != nullptr);
+        read[d] = true;
+      }
+      const auto& reading = by_width[d];
+      if (!reading) continue;
+      const auto dec = f.decode(reading->bits, max_hamming);
+      // ">=": on equal Hamming distance the earlier family keeps the quad (the header's tie-break).
+      if (!dec || (have && dec->hamming >= best.hamming)) continue;
+      have = true;
+      best.family = f.name();
+      best.id = dec->id;
+      best.hamming = dec->hamming;
+      best.rotation = dec->rotation;
+      best.decision_margin = reading->margin;
+    }
+    if (readings)
+      for (auto& r : by_width)
+        if (r) readings->push_back(std::move(*r));
+    if (!have) continue;
+    // The printed top-left corner is quad corner `rotation` (observed = rotate90^r(code)).
+    for (int i = 0; i < 4; ++i)
+      best.corners[static_cast<std::size_t>(i)] = q.corners[static_cast<std::size_t>((i + best.rotation) % 4)];
+    best.homography = *tag_homography(best.corners);
+    best.center = apply_homography(best.homography, Eigen::Vector2d::Zero());
+    best.observed_perimeter = q.observed_perimeter;
+    found.push_back(std::move(best));
+  }
+  return found;
+}
+
+}  // namespace tagbench

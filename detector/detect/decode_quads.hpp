@@ -1,0 +1,33 @@
+#pragma once
+// Stage 6 of the detector (paper section IV): each candidate quad's payload read and decoded
+// against every family.
+//
+// For each quad, in order: the border pre-filter (border_contrast_plausible, when
+// payload.quick_reject; d = the widest payload of the families), the homography of the tag square,
+// then one reading (read_payload) per payload width d among the families, shared by the families
+// of that width, and every family's decode of its width's reading with at most max_hamming bits
+// corrected. The family whose decode has the lowest Hamming distance wins. Tie-break: on equal
+// Hamming distance the family that comes first in `families` (DetectorOptions::families' order)
+// wins. A quad that no family decodes gives no detection.
+//
+// A detection's corners are the quad's corners re-ordered so that corners[0] is the printed
+// top-left (quad corner `rotation`), its homography maps the tag square [-1,1]^2 in printed axes
+// to the image, and its centre is the homography's image of (0, 0). Detections come in quad order.
+#include <span>
+#include <vector>
+
+#include "codes/tag_family.hpp"
+#include "detect/detector.hpp"
+#include "detect/image.hpp"
+#include "detect/payload_decode.hpp"
+#include "detect/quad_search.hpp"
+
+namespace tagbench {
+
+// `readings`, if given, receives every reading made (in quad order, then by payload width), with
+// their sample points (for the paper's Fig. 4 pictures).
+std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
+                                    std::span<const TagFamily> families, int max_hamming,
+                                    const PayloadOptions& payload, std::vector<PayloadReading>* readings = nullptr);
+
+}  // namespace tagbench

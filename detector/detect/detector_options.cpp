@@ -1,0 +1,117 @@
+// DetectorOptions::validate: every numeric field's domain (detector.hpp documents the rules).
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "codes/families.hpp"
+#include "detect/detector.hpp"
+
+namespace tagbench {
+namespace {
+
+std::string text(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip form
+  return std::string(buf, r.ptr);
+}
+std::string text(long long v) { return std::to_string(v); }
+
+// One line: "FIELD = VALUE: RULE".
+template <class T>
+[[noreturn]] void fail(const char* field, T value, const std::string& rule) {
+  throw std::invalid_argument(std::string(field) + " = " + text(value) + ": " + rule);
+}
+
+void finite_at_least(const char* field, double v, double lo) {
+  if (!(std::isfinite(v) && v >= lo)) fail(field, v, "must be finite and >= " + text(lo));
+}
+void finite_above(const char* field, double v, double lo) {
+  if (!(std::isfinite(v) && v > lo)) fail(field, v, "must be finite and > " + text(lo));
+}
+void within(const char* field, double v, double lo, double hi) {
+  if (!(v >= lo && v <= hi)) fail(field, v, "must be in [" + text(lo) + ", " + text(hi) + "]");
+}
+void int_within(const char* field, long long v, long long lo, long long hi) {
+  if (v < lo || v > hi) fail(field, v, "must be in " + text(lo) + ".." + text(hi));
+}
+
+}  // namespace
+
+void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
+  if (families.empty()) throw std::invalid_argument("families: empty: give at least one tag family");
+  if (loaded.size() != families.size())
+    throw std::invalid_argument("families: " + std::to_string(families.size()) + " named but " +
+                                std::to_string(loaded.size()) + " loaded");
+  int h_min = loaded.front().min_hamming();
+  std::string h_family = loaded.front().name();
+  for (const TagFamily& f : loaded)
+    if (f.min_hamming() < h_min) h_min = f.min_hamming(), h_family = f.name();
+  const int k_max = std::max(0, h_min - 1);
+  if (max_hamming < 0 || max_hamming > k_max)
+    fail("max_hamming", static_cast<long long>(max_hamming),
+         "must be in 0.." + std::to_string(k_max) + " (below the minimum Hamming distance " + std::to_string(h_min) +
+             " of family " + h_family + ")");
+  within("min_decision_margin", min_decision_margin, 0, 1);
+  finite_at_least("seg_sigma", seg_sigma, 0);
+  finite_at_least("decode_sigma", decode_sigma, 0);
+
+  finite_at_least("segmentation.min_mag", segmentation.min_mag, 0);
+  if (!(std::isfinite(segmentation.max_edge_cost) && segmentation.max_edge_cost > 0 &&
+        segmentation.max_edge_cost <= std::numbers::pi))
+    fail("segmentation.max_edge_cost", segmentation.max_edge_cost, "must be in (0, pi] radians");
+  int_within("segmentation.weight_scale", segmentation.weight_scale, 1, kMaxWeightScale);
+  finite_at_least("segmentation.k_theta", segmentation.k_theta, 0);
+  finite_at_least("segmentation.k_mag", segmentation.k_mag, 0);
+  int_within("segmentation.min_cluster_size", segmentation.min_cluster_size, 1, kMaxPixelsCeiling);
+
+  finite_at_least("line_fit.min_length", line_fit.min_length, 0);
+
+  switch (quad_search.close_enough) {
+    case CloseEnoughRule::kPaper2011:
+    case CloseEnoughRule::kCode2010:
+    case CloseEnoughRule::kCode2012: break;
+    default:
+      fail("quad_search.close_enough", static_cast<long long>(quad_search.close_enough),
+           "must be kPaper2011, kCode2010 or kCode2012");
+  }
+  finite_above("quad_search.min_tag_size", quad_search.min_tag_size, 0);
+  finite_at_least("quad_search.max_aspect", quad_search.max_aspect, 1);
+  if (!std::isfinite(quad_search.winding_min)) fail("quad_search.winding_min", quad_search.winding_min, "must be finite");
+  if (!(std::isfinite(quad_search.winding_max) && quad_search.winding_max > quad_search.winding_min))
+    fail("quad_search.winding_max", quad_search.winding_max,
+         "must be finite and > quad_search.winding_min (" + text(quad_search.winding_min) + ")");
+  finite_above("quad_search.grid_cell", quad_search.grid_cell, 0);
+  if (quad_search.max_quads < 1)
+    fail("quad_search.max_quads", static_cast<long long>(quad_search.max_quads), "must be >= 1");
+
+  within("payload.min_contrast", payload.min_contrast, 0, 1);
+
+  if (camera) {
+    finite_above("camera.fx", camera->fx, 0);
+    finite_above("camera.fy", camera->fy, 0);
+    if (!std::isfinite(camera->cx)) fail("camera.cx", camera->cx, "must be finite");
+    if (!std::isfinite(camera->cy)) fail("camera.cy", camera->cy, "must be finite");
+    finite_above("tag_size", tag_size, 0);  // metres, needed for the pose
+  } else {
+    finite_at_least("tag_size", tag_size, 0);  // unused without a camera
+  }
+  if (distortion) {
+    if (!camera) throw std::invalid_argument("distortion: given without camera intrinsics (camera)");
+    static constexpr const char* kNames[5] = {"distortion.k1", "distortion.k2", "distortion.p1", "distortion.p2",
+                                              "distortion.k3"};
+    for (std::size_t i = 0; i < 5; ++i)
+      if (!std::isfinite((*distortion)[i])) fail(kNames[i], (*distortion)[i], "must be finite");
+  }
+  int_within("max_pixels", max_pixels, 1, kMaxPixelsCeiling);
+}
+
+void DetectorOptions::validate() const {
+  std::vector<TagFamily> loaded;
+  for (const auto& f : families) loaded.push_back(load_family(f));
+  validate(loaded);
+}
+
+}  // namespace tagbench

@@ -1,0 +1,117 @@
+// Stage 6: payloads read once per width and decoded against every family; the lowest Hamming
+// distance wins, the first family on a tie; the border pre-filter.
+#include <gtest/gtest.h>
+
+#include "codes/families.hpp"
+#include "codes/tag_layout.hpp"
+#include "detect/decode_quads.hpp"
+#include "synthetic_tag.hpp"
+
+using namespace tagbench;
+
+namespace {
+
+const Corners kTruth = synth::square_tag_corners(90, 90, 100, 0.3);
+
+// The quad as quad_search reports a tag printed upright and seen rotated by `r` quarter turns:
+// its first corner is the printed corner 4 - r.
+Quad quad_of(const Corners& printed, int r) {
+  Quad q;
+  for (int i = 0; i < 4; ++i)
+    q.corners[static_cast<std::size_t>(i)] = printed[static_cast<std::size_t>((i + 4 - r) % 4)];
+  q.observed_perimeter = 321;
+  return q;
+}
+
+// A one-code 16h5-sized family holding `code`.
+TagFamily single(const std::string& name, Code code) {
+  FamilyInfo info;
+  info.name = name;
+  info.bits = 16;
+  info.min_hamming = 5;
+  return TagFamily(info, {code}, false);
+}
+
+}  // namespace
+
+TEST(DecodeQuads, DecodesAndOrdersTheCornersFromTheRotation) {
+  const TagFamily& f = builtin_family("16h5");
+  const ImageF img = synth::render_tag(180, 180, tag_cells(f, 7), synth::homography_for(kTruth));
+  for (int r = 0; r < 4; ++r) {
+    const std::vector<Quad> quads = {quad_of(kTruth, r)};
+    const auto out = decode_quads(img, quads, std::span(&f, 1), 0, PayloadOptions{});
+    ASSERT_EQ(out.size(), 1u) << r;
+    EXPECT_EQ(out[0].family, "16h5");
+    EXPECT_EQ(out[0].id, 7);
+    EXPECT_EQ(out[0].hamming, 0);
+    EXPECT_EQ(out[0].rotation, r);
+    EXPECT_EQ(out[0].corners, kTruth);  // printed order whatever corner the quad started at
+    EXPECT_EQ(out[0].observed_perimeter, 321);
+    EXPECT_LT((out[0].center - Eigen::Vector2d(90, 90)).norm(), 1e-9);
+    EXPECT_GT(out[0].decision_margin, 0.5);
+  }
+}
+
+TEST(DecodeQuads, LowestHammingWinsThenTheFirstFamily) {
+  const Code code = builtin_family("16h5").codes()[4];
+  const ImageF img =
+      synth::render_tag(180, 180, tag_cells_for_code(code, 4), synth::homography_for(kTruth));
+  const std::vector<Quad> quads = {quad_of(kTruth, 0)};
+  const auto best_of = [&](std::vector<TagFamily> fams) {
+    const auto out = decode_quads(img, quads, fams, 2, PayloadOptions{});
+    return out.size() == 1 ? out[0].family + "/" + std::to_string(out[0].hamming) : std::string("none");
+  };
+  const TagFamily exact_a = single("a", code), exact_b = single("b", code), off_by_one = single("c", code ^ 0x100);
+  // Equal Hamming distance: the first family in the given order.
+  EXPECT_EQ(best_of({exact_a, exact_b}), "a/0");
+  EXPECT_EQ(best_of({exact_b, exact_a}), "b/0");
+  // A lower Hamming distance wins whatever the order.
+  EXPECT_EQ(best_of({off_by_one, exact_b}), "b/0");
+  EXPECT_EQ(best_of({exact_b, off_by_one}), "b/0");
+  EXPECT_EQ(best_of({off_by_one}), "c/1");
+}
+
+TEST(DecodeQuads, OneReadingPerPayloadWidth) {
+  const TagFamily& f = builtin_family("16h5");
+  const ImageF img = synth::render_tag(180, 180, tag_cells(f, 2), synth::homography_for(kTruth));
+  const std::vector<Quad> quads = {quad_of(kTruth, 1), quad_of(kTruth, 2)};
+  // Two families of width 4, one of width 6: two readings per quad, not three.
+  const std::vector<TagFamily> fams = {builtin_family("36h11"), f, single("x", f.codes()[0])};
+  std::vector<PayloadReading> readings;
+  const auto out = decode_quads(img, quads, fams, 0, PayloadOptions{}, &readings);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].rotation, 1);
+  EXPECT_EQ(out[1].rotation, 2);
+  ASSERT_EQ(readings.size(), 4u);
+  EXPECT_EQ(readings[0].payload_points.size(), 16u);  // d = 4 first (widths in increasing order)
+  EXPECT_EQ(readings[1].payload_points.size(), 36u);
+  EXPECT_FALSE(readings[0].white_points.empty());
+  // Without the readings vector the points are not kept and the detections are the same.
+  const auto again = decode_quads(img, quads, fams, 0, PayloadOptions{});
+  ASSERT_EQ(again.size(), 2u);
+  EXPECT_EQ(again[1].corners, out[1].corners);
+}
+
+TEST(DecodeQuads, QuickRejectAppliesTheBorderPreFilter) {
+  const TagFamily& f = builtin_family("16h5");
+  ImageF img = synth::render_tag(180, 180, tag_cells(f, 11), synth::homography_for(kTruth));
+  // Grey blobs over the middles of two sides' rings: the 8-sample border test fails there, while
+  // the full border models (every ring cell) still read the payload.
+  for (const auto& [a, b] : {std::pair{kTruth[0], kTruth[1]}, std::pair{kTruth[2], kTruth[3]}}) {
+    const Eigen::Vector2d m = 0.5 * (a + b);
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x)
+        if ((Eigen::Vector2d(x, y) - m).norm() < 12) img.at(x, y) = 0.5f;
+  }
+  const std::vector<Quad> quads = {quad_of(kTruth, 0)};
+  ASSERT_FALSE(border_contrast_plausible(img, quads[0].corners, 4, PayloadOptions{}.min_contrast));
+  PayloadOptions off;
+  off.quick_reject = false;
+  std::vector<PayloadReading> readings;
+  const auto read = decode_quads(img, quads, std::span(&f, 1), 2, off, &readings);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(read[0].id, 11);
+  readings.clear();
+  EXPECT_TRUE(decode_quads(img, quads, std::span(&f, 1), 2, PayloadOptions{}, &readings).empty());
+  EXPECT_TRUE(readings.empty());  // rejected before anything was read
+}

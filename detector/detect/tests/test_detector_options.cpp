@@ -1,0 +1,143 @@
+// DetectorOptions::validate: every numeric field, one bad value each (the message must name the
+// field and give the value), the boundaries that must pass, and the constructor calling it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "codes/families.hpp"
+#include "detect/detector.hpp"
+
+using namespace tagbench;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Case {
+  std::string field;  // as validate() spells it
+  std::function<void(DetectorOptions&)> set;
+  std::string value;  // how the message prints the bad value
+};
+
+DetectorOptions with_camera() {
+  DetectorOptions o;
+  o.camera = CameraIntrinsics{500, 500, 320, 240};
+  o.tag_size = 0.1;
+  return o;
+}
+
+std::string message(const DetectorOptions& o) {
+  try {
+    o.validate();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(DetectorOptions, EveryFieldIsChecked) {
+  // One entry per numeric field of DetectorOptions and its nested options (a field missing from
+  // validate() leaves its case accepted and fails here).
+  const std::vector<Case> cases = {
+      {"max_hamming", [](DetectorOptions& o) { o.max_hamming = -1; }, "-1"},
+      {"max_hamming", [](DetectorOptions& o) { o.max_hamming = 11; }, "11"},  // 36h11: h - 1 = 10
+      {"min_decision_margin", [](DetectorOptions& o) { o.min_decision_margin = 1.5; }, "1.5"},
+      {"min_decision_margin", [](DetectorOptions& o) { o.min_decision_margin = kNaN; }, "nan"},
+      {"seg_sigma", [](DetectorOptions& o) { o.seg_sigma = -0.1; }, "-0.1"},
+      {"seg_sigma", [](DetectorOptions& o) { o.seg_sigma = kInf; }, "inf"},
+      {"decode_sigma", [](DetectorOptions& o) { o.decode_sigma = kNaN; }, "nan"},
+      {"segmentation.min_mag", [](DetectorOptions& o) { o.segmentation.min_mag = -1; }, "-1"},
+      {"segmentation.max_edge_cost", [](DetectorOptions& o) { o.segmentation.max_edge_cost = 0; }, "0"},
+      {"segmentation.max_edge_cost", [](DetectorOptions& o) { o.segmentation.max_edge_cost = 4; }, "4"},
+      {"segmentation.weight_scale", [](DetectorOptions& o) { o.segmentation.weight_scale = 0; }, "0"},
+      {"segmentation.weight_scale", [](DetectorOptions& o) { o.segmentation.weight_scale = kMaxWeightScale + 1; },
+       std::to_string(kMaxWeightScale + 1)},
+      {"segmentation.k_theta", [](DetectorOptions& o) { o.segmentation.k_theta = -1; }, "-1"},
+      {"segmentation.k_mag", [](DetectorOptions& o) { o.segmentation.k_mag = kNaN; }, "nan"},
+      {"segmentation.min_cluster_size", [](DetectorOptions& o) { o.segmentation.min_cluster_size = 0; }, "0"},
+      {"line_fit.min_length", [](DetectorOptions& o) { o.line_fit.min_length = -4; }, "-4"},
+      {"quad_search.close_enough",
+       [](DetectorOptions& o) { o.quad_search.close_enough = static_cast<CloseEnoughRule>(7); }, "7"},
+      {"quad_search.min_tag_size", [](DetectorOptions& o) { o.quad_search.min_tag_size = 0; }, "0"},
+      {"quad_search.max_aspect", [](DetectorOptions& o) { o.quad_search.max_aspect = 0.5; }, "0.5"},
+      {"quad_search.winding_min", [](DetectorOptions& o) { o.quad_search.winding_min = -kInf; }, "-inf"},
+      {"quad_search.winding_max", [](DetectorOptions& o) { o.quad_search.winding_max = -8; }, "-8"},
+      {"quad_search.grid_cell", [](DetectorOptions& o) { o.quad_search.grid_cell = 0; }, "0"},
+      {"quad_search.grid_cell", [](DetectorOptions& o) { o.quad_search.grid_cell = kNaN; }, "nan"},
+      {"quad_search.max_quads", [](DetectorOptions& o) { o.quad_search.max_quads = 0; }, "0"},
+      {"payload.min_contrast", [](DetectorOptions& o) { o.payload.min_contrast = -0.01; }, "-0.01"},
+      {"camera.fx", [](DetectorOptions& o) { o = with_camera(), o.camera->fx = 0; }, "0"},
+      {"camera.fy", [](DetectorOptions& o) { o = with_camera(), o.camera->fy = kNaN; }, "nan"},
+      {"camera.cx", [](DetectorOptions& o) { o = with_camera(), o.camera->cx = kInf; }, "inf"},
+      {"camera.cy", [](DetectorOptions& o) { o = with_camera(), o.camera->cy = kNaN; }, "nan"},
+      {"tag_size", [](DetectorOptions& o) { o = with_camera(), o.tag_size = 0; }, "0"},
+      {"tag_size", [](DetectorOptions& o) { o.tag_size = -1; }, "-1"},
+      {"distortion.k1", [](DetectorOptions& o) { o = with_camera(), o.distortion = {{kNaN, 0, 0, 0, 0}}; }, "nan"},
+      {"distortion.k3", [](DetectorOptions& o) { o = with_camera(), o.distortion = {{0, 0, 0, 0, kInf}}; }, "inf"},
+      {"max_pixels", [](DetectorOptions& o) { o.max_pixels = 0; }, "0"},
+      {"max_pixels", [](DetectorOptions& o) { o.max_pixels = kMaxPixelsCeiling + 1; },
+       std::to_string(kMaxPixelsCeiling + 1)},
+  };
+  for (const Case& c : cases) {
+    DetectorOptions o;
+    c.set(o);
+    const std::string m = message(o);
+    EXPECT_EQ(m.rfind(c.field + " = " + c.value + ": ", 0), 0u) << "'" << m << "' for " << c.field;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_THROW(Detector{o}, std::invalid_argument) << c.field;
+  }
+  // The fields without a numeric value: an empty family list, distortion without a camera.
+  DetectorOptions o;
+  o.families.clear();
+  EXPECT_EQ(message(o).rfind("families: ", 0), 0u) << message(o);
+  o = DetectorOptions{};
+  o.distortion = {{0, 0, 0, 0, 0}};
+  EXPECT_EQ(message(o).rfind("distortion: ", 0), 0u) << message(o);
+}
+
+TEST(DetectorOptions, DefaultsAndBoundariesPass) {
+  EXPECT_EQ(message(DetectorOptions{}), "");
+  EXPECT_EQ(message(with_camera()), "");
+  DetectorOptions o = with_camera();
+  o.distortion = {{-0.3, 0.1, 0.001, -0.001, 0.02}};
+  o.max_hamming = 10;  // 36h11: h - 1
+  o.min_decision_margin = 1;
+  o.seg_sigma = 0;
+  o.segmentation.max_edge_cost = M_PI;
+  o.segmentation.weight_scale = kMaxWeightScale;
+  o.segmentation.min_cluster_size = 1;
+  o.segmentation.k_theta = o.segmentation.k_mag = 0;
+  o.line_fit.min_length = 0;
+  o.quad_search.max_aspect = 1;
+  o.quad_search.max_quads = 1;
+  o.quad_search.close_enough = CloseEnoughRule::kCode2012;
+  o.payload.min_contrast = 0;
+  o.max_pixels = kMaxPixelsCeiling;
+  EXPECT_EQ(message(o), "");
+  o.quad_search.winding_max = o.quad_search.winding_min;  // an empty range
+  EXPECT_EQ(message(o).rfind("quad_search.winding_max = -7: ", 0), 0u) << message(o);
+}
+
+TEST(DetectorOptions, MaxHammingBelowEveryFamilysDistance) {
+  // The smallest minimum distance among the families bounds it: 16h5 (h = 5) allows 0..4.
+  DetectorOptions o;
+  o.families = {"36h11", "16h5"};
+  o.max_hamming = 4;
+  EXPECT_EQ(message(o), "");
+  o.max_hamming = 5;
+  EXPECT_EQ(message(o), "max_hamming = 5: must be in 0..4 (below the minimum Hamming distance 5 of family 16h5)");
+  // validate(loaded) is the same rule with the families already loaded (the constructor's way).
+  const std::vector<TagFamily> loaded = {builtin_family("36h11"), builtin_family("16h5")};
+  EXPECT_THROW(o.validate(loaded), std::invalid_argument);
+  o.max_hamming = 4;
+  EXPECT_NO_THROW(o.validate(loaded));
+  EXPECT_THROW(o.validate(std::span(loaded).first(1)), std::invalid_argument);  // not what families names
+}

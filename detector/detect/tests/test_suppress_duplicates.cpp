@@ -1,0 +1,93 @@
+// One detection per tag: each rule of suppress_duplicates, its single-pass first-match behaviour,
+// and the minimum decision margin filter.
+#include <gtest/gtest.h>
+
+#include "detect/suppress_duplicates.hpp"
+
+using namespace tagbench;
+
+namespace {
+
+// An axis-aligned square detection of side `side` (perimeter 4 side) centred at (x, y).
+Detection det(double x, double y, double side = 40, int id = 1, int hamming = 0, double observed = 100,
+              const std::string& family = "36h11") {
+  Detection d;
+  d.family = family;
+  d.id = id;
+  d.hamming = hamming;
+  d.observed_perimeter = observed;
+  d.center = Eigen::Vector2d(x, y);
+  const double h = side / 2;
+  d.corners = {Eigen::Vector2d(x - h, y - h), Eigen::Vector2d(x + h, y - h), Eigen::Vector2d(x + h, y + h),
+               Eigen::Vector2d(x - h, y + h)};
+  return d;
+}
+
+std::vector<double> xs(const std::vector<Detection>& v) {
+  std::vector<double> r;
+  for (const auto& d : v) r.push_back(d.center.x());
+  return r;
+}
+
+}  // namespace
+
+TEST(SuppressDuplicates, DifferentFamilyOrIdAreNotDuplicates) {
+  EXPECT_EQ(suppress_duplicates({det(0, 0), det(1, 0, 40, 2)}).size(), 2u);
+  EXPECT_EQ(suppress_duplicates({det(0, 0), det(1, 0, 40, 1, 0, 100, "16h5")}).size(), 2u);
+  EXPECT_EQ(suppress_duplicates({det(0, 0), det(1, 0)}).size(), 1u);
+}
+
+TEST(SuppressDuplicates, CloserThanASixteenthOfTheSummedPerimeters) {
+  // Two squares of side 40: perimeters 160 + 160, threshold 20 px (strictly closer merges).
+  EXPECT_EQ(suppress_duplicates({det(0, 0), det(19.99, 0)}).size(), 1u);
+  EXPECT_EQ(suppress_duplicates({det(0, 0), det(20, 0)}).size(), 2u);
+  // The corners' perimeters count, not the observed ones: side 80 + side 40 gives 30 px.
+  EXPECT_EQ(suppress_duplicates({det(0, 0, 80, 1, 0, 1), det(0, 29.9, 40, 1, 0, 1)}).size(), 1u);
+  EXPECT_EQ(suppress_duplicates({det(0, 0, 80, 1, 0, 1), det(0, 30, 40, 1, 0, 1)}).size(), 2u);
+}
+
+TEST(SuppressDuplicates, LowerHammingThenLongerObservedPerimeterThenTheFirst) {
+  for (const bool swap : {false, true}) {
+    std::vector<Detection> v = {det(0, 0, 40, 1, 1, 500), det(5, 0, 40, 1, 0, 10)};
+    if (swap) std::swap(v[0], v[1]);
+    const auto out = suppress_duplicates(v);
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0].hamming, 0) << swap;  // lower hamming wins over a longer perimeter
+  }
+  for (const bool swap : {false, true}) {
+    std::vector<Detection> v = {det(0, 0, 40, 1, 1, 100), det(5, 0, 40, 1, 1, 120)};
+    if (swap) std::swap(v[0], v[1]);
+    const auto out = suppress_duplicates(v);
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0].observed_perimeter, 120) << swap;
+  }
+  const auto tie = suppress_duplicates({det(0, 0), det(5, 0)});
+  ASSERT_EQ(tie.size(), 1u);
+  EXPECT_EQ(tie[0].center.x(), 0);  // a full tie keeps the earlier one
+}
+
+TEST(SuppressDuplicates, OnlyTheFirstKeptDuplicateCounts) {
+  // Kept: A at 0 (hamming 0) and B at 30 (hamming 2), not duplicates of each other (threshold 20).
+  // D at 15 duplicates both; A comes first and is better, so D is dropped though it beats B.
+  auto out = suppress_duplicates({det(0, 0, 40, 1, 0), det(30, 0, 40, 1, 2), det(15, 0, 40, 1, 1)});
+  EXPECT_EQ(xs(out), (std::vector<double>{0, 30}));
+  // D better than A: it replaces A in place; B stays, though D is now within B's reach.
+  out = suppress_duplicates({det(0, 0, 40, 1, 1), det(30, 0, 40, 1, 2), det(15, 0, 40, 1, 0)});
+  EXPECT_EQ(xs(out), (std::vector<double>{15, 30}));
+  EXPECT_EQ(out[0].hamming, 0);
+  // A detection that duplicates nothing is appended in order.
+  out = suppress_duplicates({det(100, 0), det(0, 0), det(50, 0)});
+  EXPECT_EQ(xs(out), (std::vector<double>{100, 0, 50}));
+}
+
+TEST(SuppressDuplicates, MinimumDecisionMargin) {
+  std::vector<Detection> v = {det(0, 0), det(100, 0), det(200, 0), det(300, 0)};
+  v[0].decision_margin = 0.3;
+  v[1].decision_margin = 0.29;
+  v[2].decision_margin = 0.9;
+  v[3].decision_margin = 0;
+  drop_below_margin(v, 0.3);
+  EXPECT_EQ(xs(v), (std::vector<double>{0, 200}));  // equal to the threshold is kept
+  drop_below_margin(v, 0);
+  EXPECT_EQ(v.size(), 2u);
+}

@@ -1,0 +1,24 @@
+#pragma once
+// The per-pixel buffers a DetectorWorkspace (detector.hpp) keeps between frames. Only the
+// pipeline's stages (find_quads_in_image.hpp, detector.cpp) use this header; callers see the
+// workspace through DetectorWorkspace's public interface.
+#include <opencv2/core.hpp>
+
+#include "detect/detector.hpp"
+#include "detect/gradient.hpp"
+#include "detect/image.hpp"
+#include "detect/segmentation.hpp"
+
+namespace tagbench {
+
+struct DetectorWorkspace::Impl {
+  ImageF gray;             // the float image (cv::Mat input only; ImageF input is read in place)
+  cv::Mat colour;          // scaled colour image before the gray conversion
+  ImageF blur_tmp;         // horizontal pass of the blurs
+  ImageF seg_in, dec_in;   // segmentation input; optional separately blurred decoding image
+  Gradients gradients;
+  SegmentationScratch seg;
+  Clusters clusters;
+};
+
+}  // namespace tagbench
