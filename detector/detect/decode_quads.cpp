@@ -11,15 +11,21 @@ namespace tagbench {
 
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
-                                    const PayloadOptions& payload, std::vector<PayloadReading>* readings) {
+                                    const PayloadOptions& payload, std::vector<PayloadReading>* readings,
+                                    std::vector<QuadOutcome>* outcomes) {
   std::vector<Detection> found;
   int max_d = 0;
   for (const TagFamily& f : families) max_d = std::max(max_d, f.payload_width());
+  QuadOutcome scratch;
   for (const Quad& q : quads) {
+    QuadOutcome& outcome = outcomes ? outcomes->emplace_back() : (scratch = QuadOutcome());
+    outcome.fate = QuadOutcome::Fate::kBorderRejected;
     if (payload.quick_reject && !border_contrast_plausible(decode_image, q.corners, max_d, payload.min_contrast))
       continue;
+    outcome.fate = QuadOutcome::Fate::kNoHomography;
     const auto H = tag_homography(q.corners);
     if (!H) continue;
+    outcome.fate = QuadOutcome::Fate::kUnreadable;
     std::array<std::optional<PayloadReading>, kMaxPayloadWidth + 1> by_width;  // one reading per payload width d
     std::array<bool, kMaxPayloadWidth + 1> read{};
     Detection best;
@@ -29,6 +35,10 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
       if (!read[d]) {
         by_width[d] = read_payload(decode_image, *H, static_cast<int>(d), payload, readings != nullptr);
         read[d] = true;
+        if (by_width[d]) {
+          outcome.bits[d] = by_width[d]->bits;
+          outcome.fate = QuadOutcome::Fate::kNotDecoded;
+        }
       }
       const auto& reading = by_width[d];
       if (!reading) continue;
@@ -46,6 +56,11 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
       for (auto& r : by_width)
         if (r) readings->push_back(std::move(*r));
     if (!have) continue;
+    outcome.fate = QuadOutcome::Fate::kDecoded;
+    outcome.family = best.family;
+    outcome.id = best.id;
+    outcome.hamming = best.hamming;
+    outcome.decision_margin = best.decision_margin;
     // The printed top-left corner is quad corner `rotation` (observed = rotate90^r(code)).
     for (int i = 0; i < 4; ++i)
       best.corners[static_cast<std::size_t>(i)] = q.corners[static_cast<std::size_t>((i + best.rotation) % 4)];

@@ -25,9 +25,11 @@
 namespace tagbench {
 
 // `readings`, if given, receives every reading made (in quad order, then by payload width), with
-// their sample points (for the paper's Fig. 4 pictures).
+// their sample points (for the paper's Fig. 4 pictures). `outcomes`, if given, receives one entry per
+// quad, in order: what became of it (for explain_loss.hpp).
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
-                                    const PayloadOptions& payload, std::vector<PayloadReading>* readings = nullptr);
+                                    const PayloadOptions& payload, std::vector<PayloadReading>* readings = nullptr,
+                                    std::vector<QuadOutcome>* outcomes = nullptr);
 
 }  // namespace tagbench

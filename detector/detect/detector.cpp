@@ -122,7 +122,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   // 6. Payloads, decoded against every family; one detection per tag; the margin filter.
   std::vector<Detection> out = suppress_duplicates(decode_quads(*found.decode_image, found.quads, families_,
                                                                 opt_.max_hamming, opt_.payload,
-                                                                trace ? &trace->readings : nullptr));
+                                                                trace ? &trace->readings : nullptr,
+                                                                trace ? &trace->quad_outcomes : nullptr));
   drop_below_margin(out, opt_.min_decision_margin);
   tm.decode = ms_since(t);
 

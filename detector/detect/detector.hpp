@@ -119,14 +119,35 @@ struct Detection {
   StageTimings timings;              // of the frame this detection came from
 };
 
-// Intermediate results for the paper's Fig. 3 and Fig. 4 pictures (tagbench detect --debug-dir).
+// What became of one candidate quad in decoding (decode_quads.hpp), for explaining a lost tag
+// (explain_loss.hpp).
+struct QuadOutcome {
+  enum class Fate {
+    kBorderRejected,  // the border pre-filter (PayloadOptions::quick_reject) refused it
+    kNoHomography,    // degenerate corners
+    kUnreadable,      // no payload width could be read (cells outside the image, no border contrast)
+    kNotDecoded,      // read, but no family decoded it within max_hamming
+    kDecoded,         // became a detection (before duplicate suppression and the margin filter)
+  };
+  Fate fate = Fate::kUnreadable;
+  // The bits read per payload width d (index d; nullopt where not read), as seen through the quad.
+  std::array<std::optional<Code>, kMaxPayloadWidth + 1> bits{};
+  std::string family;  // kDecoded: what it decoded as
+  int id = -1, hamming = -1;
+  double decision_margin = 0;
+};
+
+// Intermediate results for the paper's Fig. 3 and Fig. 4 pictures (tagbench detect --debug-dir) and
+// for explaining why a tag was not reported (explain_loss.hpp).
 struct DetectorTrace {
   ImageF segmentation_input;  // blurred (and halved) image the gradients came from
+  double segmentation_scale = 1;  // input pixels per segmentation_input pixel (2 when halved)
   ImageF gradient_magnitude, gradient_direction;
-  Clusters clusters;
+  Clusters clusters;              // in segmentation_input's pixels
   std::vector<Segment> segments;  // in full-resolution coordinates
   std::vector<Quad> quads;
   std::vector<PayloadReading> readings;  // one per quad that could be sampled
+  std::vector<QuadOutcome> quad_outcomes;  // one per entry of quads, in order
 };
 
 // The per-pixel working buffers of one detection (the float image, blur, gradients, the

@@ -1,5 +1,7 @@
 #include "detect/find_quads_in_image.hpp"
 
+#include <algorithm>
+
 #include <chrono>
 
 #include "detect/blur.hpp"
@@ -63,6 +65,7 @@ FoundQuads find_quads_in_image(const ImageF& gray, const DetectorOptions& opt, D
   if (trace) {
     const Gradients& g = ws.gradients;
     trace->segmentation_input = ws.seg_in;
+    trace->segmentation_scale = static_cast<double>(gray.width) / std::max(1, ws.seg_in.width);
     trace->gradient_magnitude = ImageF(g.width, g.height);
     trace->gradient_direction = ImageF(g.width, g.height);
     trace->gradient_magnitude.data.assign(g.mag.begin(), g.mag.end());
