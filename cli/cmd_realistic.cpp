@@ -20,7 +20,7 @@ namespace tagbench::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: tagbench realistic [--frames N] [--seed S] [--family F] [--detectors LIST] [--out DIR]
-           [--export-frames DIR] [--ideal]
+           [--export-frames DIR] [--ideal] [--sizes|--blur|--motion-blur|--jpeg-quality|--full-well|--ink|--face-light LO,HI]
 
 The realistic image set (issue 17): frames made to behave like JPEG photographs of small tags, and
 every selected detector on every frame, one thread, scored per tag against the frame's ground truth.
@@ -31,7 +31,7 @@ degrees about a random axis, random roll, on a card or cube face of random grey,
 wholly in view; on a procedural cluttered ground (paving grids, rectangles, outlines, lines, blobs,
 text, tag-like decoys, texture at three scales); rendered projectively at 4 x 4 samples a pixel and
 box-averaged; uneven light (a smooth fall-off and often a hard shadow; tags in sun or shade, worn
-prints); then a camera: Gaussian defocus, motion blur, shot and read noise, gamma 2.2, 8 bits, JPEG
+or grey prints: low contrast); then a camera: Gaussian defocus, motion blur, shot and read noise, gamma 2.2, 8 bits, JPEG
 at quality 70..90. Each frame is determined by (seed, frame number): the same bytes on every run.
 
 Options:
@@ -46,6 +46,15 @@ Options:
                       square, pixel centres at integers, size, tilt, pose, tag size; the camera and
                       what it did), and set.json (the settings)
   --ideal             no defocus, motion blur, noise, gamma or JPEG (the geometry alone)
+Ranges (LO,HI; a value per frame or tag is drawn uniformly in it; defaults are the calibrated set):
+  --sizes LO,HI       black square px, sqrt of the area (default 12,40)
+  --blur LO,HI        defocus sigma, px (default 0.3,1.4)
+  --motion-blur LO,HI motion blur length, px (default 0,1.5)
+  --jpeg-quality LO,HI  (default 70,90)
+  --full-well LO,HI   electrons at white, shot noise (default 800,4000)
+  --ink LO,HI         reflectance of the tag's black (default 0.04,0.5)
+  --face-light LO,HI  light on the tag's face, 1 = the brightest ground (default 0.25,1)
+  --sharpen LO,HI     the camera's unsharp-mask amount (sigma 1 px) before JPEG (default 0,0)
 
 Writes into DIR:
   realistic.csv          a row per tag and detector: the frame's camera values, the tag (id, black
@@ -98,7 +107,8 @@ std::string frame_name(int index, const char* ext) {
 
 int cmd_realistic(const Words& w) {
   if (wants_help(w, kHelp)) return 0;
-  const Args a(w, {{"frames"}, {"seed"}, {"family"}, {"detectors"}, {"out"}, {"export-frames"}, {"ideal", false}});
+  const Args a(w, {{"frames"}, {"seed"}, {"family"}, {"detectors"}, {"out"}, {"export-frames"}, {"ideal", false},
+                   {"sizes"}, {"blur"}, {"motion-blur"}, {"jpeg-quality"}, {"full-well"}, {"ink"}, {"face-light"}, {"sharpen"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   bench::RealisticRunSettings s;
   s.frames = static_cast<int>(a.get_int("frames", 50, 1, 1000000));
@@ -106,6 +116,21 @@ int cmd_realistic(const Words& w) {
   if (a.has("family")) s.set.family = *a.get("family");
   if (a.has("detectors")) s.detectors = split_list("--detectors", *a.get("detectors"));
   s.set.degrade = !a.flag("ideal");
+  const auto range = [&](const char* name, bench::Range& r) {
+    if (!a.has(name)) return;
+    const std::string opt = std::string("--") + name;
+    const auto items = split_list(opt, *a.get(name));
+    if (items.size() != 2) throw UsageError(opt + ": want LO,HI (got '" + *a.get(name) + "')");
+    r = {parse_double(opt, items[0], -1e300, 1e300), parse_double(opt, items[1], -1e300, 1e300)};
+  };
+  range("sizes", s.set.black_square_px);
+  range("blur", s.set.blur_sigma_px);
+  range("motion-blur", s.set.motion_blur_px);
+  range("jpeg-quality", s.set.jpeg_quality);
+  range("full-well", s.set.full_well_e);
+  range("ink", s.set.ink_reflectance);
+  range("face-light", s.set.face_light);
+  range("sharpen", s.set.sharpen_amount);
   try {
     s = bench::resolve_run_settings(s);
   } catch (const std::invalid_argument& e) {

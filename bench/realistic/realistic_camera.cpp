@@ -55,17 +55,26 @@ cv::Mat apply_camera(const cv::Mat& linear, const RealisticSettings& st, Draws& 
   const double fw = d.full_well_e, rn2 = d.read_noise_e * d.read_noise_e;
   d.gamma = st.gamma;
   const double inv_gamma = 1 / st.gamma;
-  cv::Mat out(v.size(), CV_8U);
+  cv::Mat encoded(v.size(), CV_32F);
   for (int y = 0; y < v.rows; ++y) {
     const float* pv = v.ptr<float>(y);
     const float* pz = z.ptr<float>(y);
-    std::uint8_t* po = out.ptr<std::uint8_t>(y);
+    float* pe = encoded.ptr<float>(y);
     for (int x = 0; x < v.cols; ++x) {
       const double e = std::max(0.0, static_cast<double>(pv[x])) * fw;
       const double s = std::clamp((e + std::sqrt(e + rn2) * pz[x]) / fw, 0.0, 1.0);
-      po[x] = static_cast<std::uint8_t>(std::lround(255 * std::pow(s, inv_gamma)));
+      pe[x] = static_cast<float>(255 * std::pow(s, inv_gamma));
     }
   }
+  // Processing: sharpening (it also sharpens the noise, and rings at edges, as real cameras do).
+  d.sharpen_amount = dr.uniform(st.sharpen_amount);
+  if (d.sharpen_amount > 0) {
+    cv::Mat soft;
+    cv::GaussianBlur(encoded, soft, cv::Size(0, 0), st.sharpen_sigma_px, st.sharpen_sigma_px, cv::BORDER_REFLECT);
+    encoded += d.sharpen_amount * (encoded - soft);
+  }
+  cv::Mat out;
+  encoded.convertTo(out, CV_8U);  // rounds and saturates
   // JPEG, as the photograph is stored; the detectors get the decoded file.
   d.jpeg_quality = static_cast<int>(std::lround(dr.uniform(st.jpeg_quality)));
   if (!cv::imencode(".jpg", out, jpeg, {cv::IMWRITE_JPEG_QUALITY, d.jpeg_quality}))

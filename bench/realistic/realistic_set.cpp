@@ -162,6 +162,8 @@ void check_settings(const RealisticSettings& s) {
   check_range("read_noise_e", s.read_noise_e, 0, 1e4);
   check_range("jpeg_quality", s.jpeg_quality, 1, 100);
   if (!(s.gamma >= 1 && s.gamma <= 4)) bad("gamma must be in [1, 4]");
+  check_range("sharpen_amount", s.sharpen_amount, 0, 10);
+  if (!(s.sharpen_sigma_px > 0 && s.sharpen_sigma_px <= 10)) bad("sharpen_sigma_px must be in (0, 10]");
   check_range("exposure", s.exposure, 0.01, 1);
   check_range("ink_reflectance", s.ink_reflectance, 0, 1);
   check_range("paper_reflectance", s.paper_reflectance, 0, 1);
@@ -234,7 +236,7 @@ std::string frame_truth_json(const RealisticSettings& st, const RealisticFrame& 
                   ", \"blur_sigma_px\": " + json_number(d.blur_sigma_px) + ", \"motion_blur_px\": " +
                   json_number(d.motion_blur_px) + ", \"motion_angle_deg\": " + json_number(d.motion_angle_deg) +
                   ", \"full_well_e\": " + json_number(d.full_well_e) + ", \"read_noise_e\": " +
-                  json_number(d.read_noise_e) + ", \"gamma\": " + json_number(d.gamma) + ", \"jpeg_quality\": " +
+                  json_number(d.read_noise_e) + ", \"gamma\": " + json_number(d.gamma) + ", \"sharpen_amount\": " + json_number(d.sharpen_amount) + ", \"jpeg_quality\": " +
                   std::to_string(d.jpeg_quality) + ", \"exposure\": " + json_number(d.exposure) +
                   ", \"shadow\": " + (d.shadow ? "true" : "false") + "},\n \"tags\": [";
   for (std::size_t i = 0; i < f.tags.size(); ++i) {

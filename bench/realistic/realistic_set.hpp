@@ -44,17 +44,21 @@ struct RealisticSettings {
   // The camera. With degrade = false only the rendering, the lighting and 8-bit quantization are
   // applied (no blur, noise, gamma or JPEG): an ideal frame, for checking the geometry.
   bool degrade = true;
-  Range blur_sigma_px{0.3, 1.2};   // defocus: Gaussian PSF sigma, pixels, per frame
+  Range blur_sigma_px{0.3, 1.4};   // defocus: Gaussian PSF sigma, pixels, per frame
   Range motion_blur_px{0, 1.5};    // motion blur: length of a line PSF, pixels (0 = none), per frame
   Range full_well_e{800, 4000};    // electrons at the exposure's white: shot noise, per frame
   Range read_noise_e{3, 12};       // read noise sigma, electrons, per frame
   Range jpeg_quality{70, 90};      // libjpeg quality, integer, per frame
   double gamma = 2.2;              // encoding gamma (value = linear^(1/gamma))
+  // The camera's sharpening (an unsharp mask on the gamma-encoded image, as phone and compact-camera
+  // processing applies before JPEG): value += amount x (value - Gaussian(value, sharpen_sigma_px)).
+  Range sharpen_amount{0, 0};      // per frame
+  double sharpen_sigma_px = 1.0;
   // The scene's light.
   Range exposure{0.55, 1.0};        // linear value of a fully lit white surface, per frame
-  Range ink_reflectance{0.04, 0.25};   // the tag's black, per tag (worn, glossy, grey prints)
+  Range ink_reflectance{0.04, 0.5};    // the tag's black, per tag (worn, glossy, grey prints, glare)
   Range paper_reflectance{0.55, 0.9};  // the tag's white, per tag
-  Range face_light{0.35, 1.0};         // light on the tag's face relative to the brightest ground (shade .. sun), per tag
+  Range face_light{0.25, 1.0};         // light on the tag's face relative to the brightest ground (shade .. sun), per tag
   double unevenness = 0.5;             // depth of the smooth light variation across the frame, 0..1
   double shadow_probability = 0.6;     // a hard-edged shadow (penumbra ~2 px) across part of the frame
 };
@@ -77,6 +81,7 @@ struct CameraDegradation {
   double blur_sigma_px = 0;
   double motion_blur_px = 0, motion_angle_deg = 0;
   double full_well_e = 0, read_noise_e = 0;
+  double sharpen_amount = 0;
   int jpeg_quality = 0;           // 0: no JPEG
   double gamma = 1;
   double exposure = 0;
