@@ -124,6 +124,19 @@ TEST(RealisticSet, DefocusSmoothsThePicture) {
   EXPECT_LT(energy(blurred.image), 0.6 * energy(sharp.image));
 }
 
+TEST(RealisticSet, SharpeningSteepensEdges) {
+  RealisticSettings s = clean_camera();
+  s.blur_sigma_px = {1, 1};
+  const RealisticFrame soft = make_realistic_frame(s, 2);
+  s.sharpen_amount = {1.5, 1.5};
+  const RealisticFrame sharp = make_realistic_frame(s, 2);
+  EXPECT_DOUBLE_EQ(sharp.degradation.sharpen_amount, 1.5);
+  cv::Mat gs, gh;
+  cv::Sobel(soft.image, gs, CV_32F, 1, 0);
+  cv::Sobel(sharp.image, gh, CV_32F, 1, 0);
+  EXPECT_GT(cv::norm(gh, cv::NORM_L2SQR), 1.5 * cv::norm(gs, cv::NORM_L2SQR));
+}
+
 TEST(RealisticSet, NoiseFollowsTheFullWell) {
   RealisticSettings s = clean_camera();
   const RealisticFrame clean = make_realistic_frame(s, 1);
