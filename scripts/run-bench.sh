@@ -45,6 +45,10 @@ RT_CACHE=$BUILD/raytrace-cache
 # frames: read from ../shared/reference/external_runs/ when it is there, else from results/external/.
 "$PY" scripts/plot_raytrace.py results angle distance conditions
 
+echo "bench: the realistic image set (small tags, JPEG photographs' camera; issue 17)" >&2
+"$BIN" realistic --frames 200 --out results
+"$PY" scripts/plot_realistic.py results
+
 echo "bench: detection peak memory at 640x480, 1920x1080 and 8000x8000" >&2
 # A fresh child process per measurement; making the 8000x8000 scene takes about 3 GB for a moment.
 "$BUILD/bench/detect_memory" --out results/memory.csv --sizes 640x480,1920x1080,8000x8000

@@ -570,13 +570,34 @@ def margin_findings(d):
     return "\n".join(out)
 
 
+def realistic_table(d):
+    """Per size bin (rows) and detector (columns): detection rate % [Wilson 95 %], from realistic_summary.csv."""
+    summary = rows(os.path.join(d, "realistic_summary.csv"))
+    bins, dets = [], _detectors(summary)
+    for r in summary:
+        if r["size_bin"] not in bins:
+            bins.append(r["size_bin"])
+    body = []
+    for b in bins:
+        sel = {r["detector"]: r for r in summary if r["size_bin"] == b}
+        first = next(iter(sel.values()))
+        row = [f"{b} px" if b != "all" else "all", first["tags"]]
+        for det in dets:
+            r = sel[det]
+            row.append(f'{100 * float(r["detection_rate"]):.0f} [{100 * float(r["rate_lo95"]):.0f}-'
+                       f'{100 * float(r["rate_hi95"]):.0f}]' + (f', {r["false_detections"]} false'
+                                                                   if r["false_detections"] != "0" else ""))
+        body.append(row)
+    return table(["Black square", "Tags"] + [RT_NAMES.get(x, x) for x in dets], body)
+
+
 BLOCKS = {"pending": pending, "speed": speed, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
           "raytrace_external_claims": raytrace_external_claims,
           "raytrace_conditions": raytrace_conditions, "fig6_table": fig6_table, "fig7_table": fig7_table,
           "fp_detectors_table": fp_detectors_table, "fp_detectors_groups": fp_detectors_groups,
           "corpus_groups": corpus_groups, "corpus_extraction": corpus_extraction, "fuzz": fuzz, "memory": memory,
-          "margin_table": margin_table, "margin_findings": margin_findings}
+          "margin_table": margin_table, "margin_findings": margin_findings, "realistic_table": realistic_table}
 
 
 def main():

@@ -1,0 +1,106 @@
+// `tagbench realistic` end to end: a small run writes its four files with header rows and a row per
+// tag and detector, a rerun gives the same rows but for the timing column, exported frames are the
+// detectors' pixels with their truth, and bad options are refused with one line and no output.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "realistic/realistic_set.hpp"
+#include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Result = tagbench::testing::CommandResult;
+using tagbench::testing::slurp;
+
+fs::path scratch() {
+  const fs::path d = tagbench::testing::program_scratch("tagbench_cli_realistic");
+  fs::create_directories(d);
+  return d;
+}
+
+Result run(const std::string& args) { return tagbench::testing::run_tagbench("realistic " + args, scratch()); }
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+std::string without_ms(const std::string& csv) {  // the timing column is the last
+  std::string out;
+  for (const auto& l : lines(csv)) out += l.substr(0, l.rfind(',')) + "\n";
+  return out;
+}
+
+}  // namespace
+
+TEST(CliRealistic, SmallRunWritesItsFilesWithHeaders) {
+  const fs::path out = scratch() / "run1", frames = scratch() / "frames";
+  const Result r = run("--frames 2 --seed 5 --detectors tagbench-full,libapriltag-d1 --out " + out.string() +
+                       " --export-frames " + frames.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto rows = lines(slurp(out / "realistic.csv"));
+  ASSERT_GE(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rfind("set,seed,family,frame,", 0), 0u);
+  // Two frames of 4..10 tags, two detectors: a row per tag and detector.
+  EXPECT_EQ((rows.size() - 1) % 2, 0u);
+  EXPECT_GE(rows.size() - 1, 2u * 2 * 4);
+  EXPECT_LE(rows.size() - 1, 2u * 2 * 10);
+  EXPECT_EQ(rows[1].rfind("realistic,5,36h11,0,", 0), 0u);
+  const auto summary = lines(slurp(out / "realistic_summary.csv"));
+  ASSERT_GE(summary.size(), 3u);
+  EXPECT_EQ(summary[0].rfind("set,seed,family,frames,size_bin,", 0), 0u);
+  EXPECT_NE(summary.back().find(",all,"), std::string::npos);
+  EXPECT_EQ(lines(slurp(out / "realistic_false.csv"))[0].rfind("set,seed,family,frame,detector,", 0), 0u);
+  EXPECT_NE(slurp(out / "realistic.json").find("\"tool\": \"tagbench realistic\""), std::string::npos);
+  // The exported frames are the detectors' pixels, with their truth.
+  tagbench::bench::RealisticSettings s;
+  s.seed = 5;
+  const auto f1 = tagbench::bench::make_realistic_frame(s, 1);
+  const cv::Mat img = cv::imread((frames / "frame-00001.jpg").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(img.empty());
+  EXPECT_EQ(cv::countNonZero(img != f1.image), 0);
+  EXPECT_EQ(slurp(frames / "frame-00001.json"), tagbench::bench::frame_truth_json(s, f1));
+  EXPECT_TRUE(fs::exists(frames / "set.json"));
+  // A rerun writes the same rows, timing aside.
+  const fs::path out2 = scratch() / "run2";
+  ASSERT_EQ(run("--frames 2 --seed 5 --detectors tagbench-full,libapriltag-d1 --out " + out2.string()).code, 0);
+  EXPECT_EQ(without_ms(slurp(out / "realistic.csv")), without_ms(slurp(out2 / "realistic.csv")));
+  EXPECT_EQ(slurp(out / "realistic_summary.csv"), slurp(out2 / "realistic_summary.csv"));
+}
+
+TEST(CliRealistic, BadOptionsAreOneLineAndWriteNothing) {
+  const fs::path out = scratch() / "never";
+  for (const std::string bad : {"--frames 0", "--frames x", "--family 99h99", "--detectors tagbench-full,nope",
+                                "--detectors aruco,aruco", "--detectors ,", "--bogus 1", "extra"}) {
+    const Result r = run(bad + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_EQ(lines(r.err).size(), 1u) << bad << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("tagbench realistic: ", 0), 0u) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << bad;
+  }
+  // --out under a file
+  const fs::path file = scratch() / "a-file";
+  { std::ofstream(file) << "x"; }
+  const Result r = run("--frames 1 --out " + (file / "sub").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
+}
+
+TEST(CliRealistic, HelpNamesTheFiles) {
+  const Result r = run("--help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* w : {"realistic.csv", "realistic_summary.csv", "realistic.json", "--export-frames", "JPEG"})
+    EXPECT_NE(r.out.find(w), std::string::npos) << w;
+}

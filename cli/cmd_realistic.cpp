@@ -1,0 +1,201 @@
+// tagbench realistic: the detectors on the realistic image set (bench/realistic/): small tags on
+// cluttered ground through a camera model, scored per tag-size bin.
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cli/args.hpp"
+#include "cli/commands.hpp"
+#include "realistic/realistic_run.hpp"
+#include "util/atomic_file.hpp"
+#include "util/progress.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+namespace tagbench::cli {
+
+namespace {
+
+constexpr const char* kHelp = R"(usage: tagbench realistic [--frames N] [--seed S] [--family F] [--detectors LIST] [--out DIR]
+           [--export-frames DIR] [--ideal] [--sizes|--blur|--motion-blur|--jpeg-quality|--full-well|--ink|--face-light LO,HI]
+
+The realistic image set (issue 17): frames made to behave like JPEG photographs of small tags, and
+every selected detector on every frame, one thread, scored per tag against the frame's ground truth.
+
+Frames: 800 x 600 gray, pinhole f = 800 px (principal point at the centre); 4 to 10 tags of one family,
+distinct ids, black squares 12 to 40 px across (sqrt of the projected area, uniform), tilted 0 to 65
+degrees about a random axis, random roll, on a card or cube face of random grey, not overlapping,
+wholly in view; on a procedural cluttered ground (paving grids, rectangles, outlines, lines, blobs,
+text, tag-like decoys, texture at three scales); rendered projectively at 4 x 4 samples a pixel and
+box-averaged; uneven light (a smooth fall-off and often a hard shadow; tags in sun or shade, worn
+or grey prints: low contrast); then a camera: Gaussian defocus, motion blur, shot and read noise, gamma 2.2, 8 bits, JPEG
+at quality 70..90. Each frame is determined by (seed, frame number): the same bytes on every run.
+
+Options:
+  --frames N          frames 0..N-1 of the set (default 50; make bench uses 200)
+  --seed S            the set's seed (default 1)
+  --family F          the tags' family (default 36h11; libapriltag and aruco also know 16h5, 25h9, 36h10)
+  --detectors LIST    comma-separated (default the five: tagbench-full, tagbench-half, libapriltag-d1,
+                      libapriltag-d2, aruco; also aruco-default)
+  --out DIR           where the results go (default results; created if missing)
+  --export-frames DIR also write every frame into DIR: frame-NNNNN.jpg (the JPEG the detectors decode;
+                      .png with --ideal) and frame-NNNNN.json (truth: corners TL,TR,BR,BL of the black
+                      square, pixel centres at integers, size, tilt, pose, tag size; the camera and
+                      what it did), and set.json (the settings)
+  --ideal             no defocus, motion blur, noise, gamma or JPEG (the geometry alone)
+Ranges (LO,HI; a value per frame or tag is drawn uniformly in it; defaults are the calibrated set):
+  --sizes LO,HI       black square px, sqrt of the area (default 12,40)
+  --blur LO,HI        defocus sigma, px (default 0.3,1.4)
+  --motion-blur LO,HI motion blur length, px (default 0,1.5)
+  --jpeg-quality LO,HI  (default 70,90)
+  --full-well LO,HI   electrons at white, shot noise (default 800,4000)
+  --ink LO,HI         reflectance of the tag's black (default 0.04,0.5)
+  --face-light LO,HI  light on the tag's face, 1 = the brightest ground (default 0.25,1)
+  --sharpen LO,HI     the camera's unsharp-mask amount (sigma 1 px) before JPEG (default 0,0)
+
+Writes into DIR:
+  realistic.csv          a row per tag and detector: the frame's camera values, the tag (id, black
+                         square px, size bin, tilt, roll, centre, reflectances, light), detected,
+                         wrong_id, corner_rms_px, decision_margin, ms (the detector on the whole frame)
+  realistic_false.csv    every detection that matches no tag (id, size, centre, the tag it lies on)
+  realistic_summary.csv  per size bin (12-16, 16-20, 20-24, 24-28, 28-32, 32-40 px, and all) and
+                         detector: tags, detected, rate with its Wilson 95 % interval, wrong ids,
+                         false detections, median and 90th percentile corner RMS
+  realistic.json         the settings, how frames are made, the measures, the summary
+Plot: /usr/bin/python3 scripts/plot_realistic.py DIR.
+)";
+
+std::vector<std::string> split_list(const std::string& option, const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (const char c : s + ",") {
+    if (c == ',') {
+      if (cur.empty()) throw UsageError(option + ": empty item in '" + s + "'");
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  return out;
+}
+
+// Refuses a path that is, or would lie under, something other than a folder.
+void check_folder(const char* option, const std::filesystem::path& dir) {
+  for (std::filesystem::path p = dir; !p.empty(); p = p.parent_path()) {
+    std::error_code ec;
+    if (std::filesystem::exists(p, ec)) {
+      if (!std::filesystem::is_directory(p, ec))
+        throw UsageError(std::string(option) + " " + dir.string() + ": " + (p == dir ? "" : p.string() + " is ") +
+                         "not a directory");
+      break;
+    }
+    if (p == p.parent_path()) break;
+  }
+}
+
+std::string frame_name(int index, const char* ext) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "frame-%05d.%s", index, ext);
+  return buf;
+}
+
+}  // namespace
+
+int cmd_realistic(const Words& w) {
+  if (wants_help(w, kHelp)) return 0;
+  const Args a(w, {{"frames"}, {"seed"}, {"family"}, {"detectors"}, {"out"}, {"export-frames"}, {"ideal", false},
+                   {"sizes"}, {"blur"}, {"motion-blur"}, {"jpeg-quality"}, {"full-well"}, {"ink"}, {"face-light"}, {"sharpen"}});
+  if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
+  bench::RealisticRunSettings s;
+  s.frames = static_cast<int>(a.get_int("frames", 50, 1, 1000000));
+  if (a.has("seed")) s.set.seed = static_cast<std::uint64_t>(parse_int("--seed", *a.get("seed"), 0, (1LL << 62)));
+  if (a.has("family")) s.set.family = *a.get("family");
+  if (a.has("detectors")) s.detectors = split_list("--detectors", *a.get("detectors"));
+  s.set.degrade = !a.flag("ideal");
+  const auto range = [&](const char* name, bench::Range& r) {
+    if (!a.has(name)) return;
+    const std::string opt = std::string("--") + name;
+    const auto items = split_list(opt, *a.get(name));
+    if (items.size() != 2) throw UsageError(opt + ": want LO,HI (got '" + *a.get(name) + "')");
+    r = {parse_double(opt, items[0], -1e300, 1e300), parse_double(opt, items[1], -1e300, 1e300)};
+  };
+  range("sizes", s.set.black_square_px);
+  range("blur", s.set.blur_sigma_px);
+  range("motion-blur", s.set.motion_blur_px);
+  range("jpeg-quality", s.set.jpeg_quality);
+  range("full-well", s.set.full_well_e);
+  range("ink", s.set.ink_reflectance);
+  range("face-light", s.set.face_light);
+  range("sharpen", s.set.sharpen_amount);
+  try {
+    s = bench::resolve_run_settings(s);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  } catch (const std::out_of_range& e) {  // an unknown family
+    throw UsageError(std::string("--family: ") + e.what());
+  }
+  const std::filesystem::path out = a.get_or("out", "results");
+  check_folder("--out", out);
+  std::optional<std::filesystem::path> export_dir;
+  if (a.has("export-frames")) {
+    export_dir = *a.get("export-frames");
+    check_folder("--export-frames", *export_dir);
+    std::filesystem::create_directories(*export_dir);
+    remove_stale_temporaries(*export_dir);
+  }
+
+  std::optional<ProgressBar> bar;
+  char detail[64];
+  std::snprintf(detail, sizeof detail, "(%zu detectors, one thread)", s.detectors.size());
+  const auto progress = [&](std::size_t done, std::size_t total) {
+    if (!bar) bar.emplace("realistic");
+    char count[64];
+    std::snprintf(count, sizeof count, "%zu/%zu frames", done, total);
+    bar->update(static_cast<double>(done) / static_cast<double>(total), count, detail, -1);
+  };
+  const auto on_frame = [&](const bench::RealisticFrame& f) {
+    if (!export_dir) return;
+    std::string pixels;
+    if (!f.jpeg.empty()) {
+      pixels.assign(f.jpeg.begin(), f.jpeg.end());
+    } else {
+      std::vector<std::uint8_t> png;
+      if (!cv::imencode(".png", f.image, png)) throw std::runtime_error("PNG encoding failed");
+      pixels.assign(png.begin(), png.end());
+    }
+    write_files_atomic({{*export_dir / frame_name(f.index, f.jpeg.empty() ? "png" : "jpg"), pixels},
+                        {*export_dir / frame_name(f.index, "json"), bench::frame_truth_json(s.set, f)}});
+  };
+  const bench::RealisticResult r = bench::run_realistic(s, on_frame, progress);
+  bar.reset();
+  const auto summary = bench::summarize_realistic(r);
+
+  const bool made_out = std::filesystem::create_directories(out);
+  remove_stale_temporaries(out);
+  try {
+    std::vector<std::pair<std::filesystem::path, std::string>> files = {
+        {out / "realistic.csv", bench::realistic_rows_csv(r)},
+        {out / "realistic_false.csv", bench::realistic_false_csv(r)},
+        {out / "realistic_summary.csv", bench::realistic_summary_csv(r, summary)},
+        {out / "realistic.json", bench::realistic_sidecar_json(r, summary)}};
+    write_files_atomic(files);
+    if (export_dir) write_file_atomic(*export_dir / "set.json", bench::realistic_sidecar_json(r, summary));
+  } catch (...) {
+    std::error_code ec;
+    if (made_out) std::filesystem::remove(out, ec);  // only if still empty
+    throw;
+  }
+  std::size_t tags = 0;
+  for (const auto& f : r.frames) tags += f.tags.size();
+  std::fprintf(stderr, "tagbench realistic: %zu frames, %zu tags x %zu detectors; wrote realistic.csv, "
+               "realistic_false.csv, realistic_summary.csv, realistic.json in %s%s\n",
+               r.frames.size(), tags, s.detectors.size(), out.string().c_str(),
+               export_dir ? (std::string(" and the frames in ") + export_dir->string()).c_str() : "");
+  return 0;
+}
+
+}  // namespace tagbench::cli
