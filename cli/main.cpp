@@ -26,6 +26,7 @@ Commands:
             extract candidate quads and their payloads (shardable), score families on them
   falsepos  the false-positive experiments on the corpus: complexity (Fig. 6), codes (Fig. 7),
             whole detectors (ours, libapriltag, OpenCV aruco)
+  speed     detector speed on whole image sets (corpus, ray-traced frames, synthetic scenes)
 
 Run 'tagbench <command> --help' for a command's options.
 Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).
@@ -46,6 +47,7 @@ constexpr Command kCommands[] = {
     {"raytrace", tagbench::cli::cmd_raytrace},
     {"corpus", tagbench::cli::cmd_corpus},
     {"falsepos", tagbench::cli::cmd_falsepos},
+    {"speed", tagbench::cli::cmd_speed},
 };
 
 }  // namespace
