@@ -19,6 +19,7 @@ int cmd_raytrace(const Words& args);
 int cmd_corpus(const Words& args);
 int cmd_falsepos(const Words& args);
 int cmd_realistic(const Words& args);
+int cmd_speed(const Words& args);
 
 // True (and the help printed to stdout) when args ask for help.
 bool wants_help(const Words& args, const char* help_text);
