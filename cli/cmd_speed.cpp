@@ -25,7 +25,7 @@ namespace tagbench::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: tagbench speed [--sets LIST] [--corpus DIR] [--cache DIR] [--max-images N]
-           [--scenes-per-size N] [--detectors LIST] [--pairs LIST] [--family F] [--repeats R] [--out DIR]
+           [--realistic-frames N] [--seed S] [--scenes-per-size N] [--detectors LIST] [--pairs LIST] [--family F] [--repeats R] [--out DIR]
 
 Detector speed on whole image sets, each reported apart: every detector single-threaded, in this one
 process, on the same 8-bit gray image one after the other (the order rotated from image to image),
@@ -33,10 +33,12 @@ one warm workspace per detector, the fastest of --repeats runs kept. A pair A:B 
 geometric mean over the images of A's time / B's time with a 95 % interval, the median ratio and the
 share of images on which A was faster.
 
-  --sets LIST            any of corpus, raytrace, scenes (default all three)
+  --sets LIST            any of corpus, raytrace, realistic, scenes (default all four)
   --corpus DIR           corpus: the natural-image corpus (default corpus; tagbench corpus build)
   --cache DIR            raytrace: a ray-traced frame cache (default build/raytrace-cache, as make bench)
   --max-images N         at most N images of each set, evenly spread over it (default 0: all)
+  --realistic-frames N   realistic: frames of the realistic set (default 100; tagbench realistic)
+  --seed S               realistic: the set's seed (default 1)
   --scenes-per-size N    scenes: make_scene images per size, 640x480, 1280x720, 1920x1080 (default 5)
   --detectors LIST       comparator names (default tagbench-full,tagbench-half,libapriltag-d1,
                          libapriltag-d2,aruco)
@@ -64,7 +66,7 @@ std::vector<std::pair<std::string, std::string>> parse_pairs(const std::string& 
 
 int cmd_speed(const Words& w) {
   if (wants_help(w, kHelp)) return 0;
-  const Args a(w, {{"sets"}, {"corpus"}, {"cache"}, {"max-images"}, {"scenes-per-size"}, {"detectors"},
+  const Args a(w, {{"sets"}, {"corpus"}, {"cache"}, {"max-images"}, {"scenes-per-size"}, {"realistic-frames"}, {"seed"}, {"detectors"},
                    {"pairs"}, {"family"}, {"repeats"}, {"out"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   bench::SpeedOptions o;
@@ -77,7 +79,7 @@ int cmd_speed(const Words& w) {
     for (const auto& n : {x, y})
       if (std::find(o.detectors.begin(), o.detectors.end(), n) == o.detectors.end())
         throw UsageError("--pairs: '" + n + "' is not among --detectors");
-  const auto sets = split_commas(a.get_or("sets", "corpus,raytrace,scenes"));
+  const auto sets = split_commas(a.get_or("sets", "corpus,raytrace,realistic,scenes"));
   if (sets.empty()) throw UsageError("--sets: empty list");
   const auto max_images = static_cast<std::size_t>(a.get_int("max-images", 0, 0, 1000000000));
   const int per_size = static_cast<int>(a.get_int("scenes-per-size", 5, 1, 1000));
@@ -93,10 +95,14 @@ int cmd_speed(const Words& w) {
         image_sets.push_back(bench::corpus_set(dir));
       } else if (name == "raytrace") {
         image_sets.push_back(bench::raytrace_cache_set(a.get_or("cache", "build/raytrace-cache")));
+      } else if (name == "realistic") {
+        image_sets.push_back(bench::realistic_set(static_cast<int>(a.get_int("realistic-frames", 100, 1, 1000000)),
+                                                  static_cast<std::uint64_t>(a.get_int("seed", 1, 0, 1LL << 62)),
+                                                  o.family));
       } else if (name == "scenes") {
         image_sets.push_back(bench::scene_set({{640, 480}, {1280, 720}, {1920, 1080}}, per_size, o.family));
       } else {
-        throw UsageError("--sets: unknown set '" + name + "' (corpus, raytrace, scenes)");
+        throw UsageError("--sets: unknown set '" + name + "' (corpus, raytrace, realistic, scenes)");
       }
     } catch (const std::invalid_argument& e) {
       throw UsageError(std::string("--sets ") + name + ": " + e.what());

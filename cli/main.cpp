@@ -27,7 +27,7 @@ Commands:
   falsepos  the false-positive experiments on the corpus: complexity (Fig. 6), codes (Fig. 7),
             whole detectors (ours, libapriltag, OpenCV aruco)
   realistic the detectors on frames made like JPEG photographs of small tags (12-40 px), per size
-  speed     detector speed on whole image sets (corpus, ray-traced frames, synthetic scenes)
+  speed     detector speed on whole image sets (corpus, ray-traced, realistic frames, scenes)
 
 Run 'tagbench <command> --help' for a command's options.
 Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).

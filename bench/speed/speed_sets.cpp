@@ -13,6 +13,7 @@
 
 #include "candidates.hpp"
 #include "raytrace/comparators.hpp"
+#include "realistic/realistic_set.hpp"
 #include "scenes.hpp"
 
 namespace tagbench::bench {
@@ -99,6 +100,22 @@ ImageSet spread_subset(ImageSet set, std::size_t max_images) {
   set.image = [inner = std::move(set.image), n, max_images](std::size_t i) { return inner(i * n / max_images); };
   set.size = max_images;
   return set;
+}
+
+ImageSet realistic_set(int frames, std::uint64_t seed, const std::string& family) {
+  if (frames < 1) throw std::invalid_argument("realistic frames must be >= 1");
+  RealisticSettings settings;
+  settings.seed = seed;
+  settings.family = family;
+  ImageSet s;
+  s.name = "realistic";
+  s.source = "make_realistic_frame(seed " + std::to_string(seed) + ", " + family + ", frames 0.." +
+             std::to_string(frames - 1) + ")";
+  s.size = static_cast<std::size_t>(frames);
+  s.image = [settings](std::size_t i) {
+    return SpeedImage{"realistic frame " + std::to_string(i), make_realistic_frame(settings, static_cast<int>(i)).image};
+  };
+  return s;
 }
 
 ImageSet scene_set(const std::vector<std::pair<int, int>>& sizes, int per_size, const std::string& family) {

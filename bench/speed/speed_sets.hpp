@@ -13,6 +13,7 @@
 //   one slow image cannot stand for the set.
 // Wall times in milliseconds; megapixels = width x height / 10^6.
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -40,6 +41,9 @@ struct ImageSet {
 ImageSet corpus_set(const std::filesystem::path& corpus_dir);
 // The PNG frames in a ray-traced frame cache (bench/raytrace/render.hpp), in file-name order.
 ImageSet raytrace_cache_set(const std::filesystem::path& cache_dir);
+// `frames` frames of the realistic set (bench/realistic/realistic_set.hpp) at its default settings
+// with this seed and family.
+ImageSet realistic_set(int frames, std::uint64_t seed, const std::string& family);
 // make_scene (bench/scenes.hpp) images: for every size, `per_size` scenes of 6 tags of `family`,
 // seeds 1..per_size.
 ImageSet scene_set(const std::vector<std::pair<int, int>>& sizes, int per_size, const std::string& family);
