@@ -33,7 +33,7 @@
 
 #include "detect/detector.hpp"
 #include "scenes.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace {
 

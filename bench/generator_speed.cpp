@@ -9,7 +9,7 @@
 #include "codes/families.hpp"
 #include "codes/hamming_scan.hpp"
 #include "codes/lexicode.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench {
 

@@ -7,9 +7,9 @@
 #include "cli/commands.hpp"
 #include "code_experiments.hpp"
 #include "generator_speed.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/sysinfo.hpp"
 #include "codes/families.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace tagbench::cli {
 

@@ -95,10 +95,10 @@
 #include "detect/detector.hpp"
 #include "detect/homography.hpp"
 #include "detect/image.hpp"
-#include "util/atomic_file.hpp"
-#include "util/json.hpp"
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/json.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
 

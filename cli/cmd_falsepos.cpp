@@ -17,10 +17,10 @@
 #include "fp_detectors.hpp"
 #include "margin_tradeoff.hpp"
 #include "raytrace/sweeps.hpp"
-#include "util/atomic_file.hpp"
-#include "util/json.hpp"
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/json.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
 

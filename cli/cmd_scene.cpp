@@ -11,7 +11,7 @@
 #include "cli/commands.hpp"
 #include "codes/families.hpp"
 #include "scenes.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace tagbench::cli {
 

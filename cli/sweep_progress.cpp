@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <optional>
 
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
 

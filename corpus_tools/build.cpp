@@ -29,8 +29,8 @@
 
 #include "rcc.hpp"
 #include "sha256.hpp"
-#include "util/atomic_file.hpp"
-#include "util/progress.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/progress.hpp"
 
 namespace tagbench::corpus {
 

@@ -28,7 +28,7 @@
 #include "detect/segmentation.hpp"
 #include "scan.hpp"
 #include "sources.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace fs = std::filesystem;
 

@@ -27,8 +27,8 @@
 
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
-#include "util/atomic_file.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench {
 

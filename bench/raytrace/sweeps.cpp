@@ -19,7 +19,7 @@
 
 #include "codes/families.hpp"
 #include "detect/detector.hpp"
-#include "util/json.hpp"
+#include "tools/json.hpp"
 
 namespace tagbench {
 

@@ -19,7 +19,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "raytrace/render.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 #include "kill_run.hpp"
 #include "run_tagbench.hpp"

@@ -1,4 +1,4 @@
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
