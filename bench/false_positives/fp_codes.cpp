@@ -10,6 +10,7 @@
 #include "code_experiments.hpp"
 #include "codes/families.hpp"
 #include "codes/lexicode.hpp"
+#include "tools/format.hpp"
 
 namespace tagbench {
 
@@ -99,15 +100,6 @@ std::vector<CodeCurveRow> code_curves(const corpus::CandidateStore& store, const
   }
   return rows;
 }
-
-namespace {
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-}  // namespace
 
 std::string code_curves_csv(const std::vector<CodeCurveRow>& rows) {
   std::ostringstream o;
