@@ -9,7 +9,7 @@
 #include "codes/tag_family.hpp"
 #include "tools/format.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 std::vector<CodeScheme> paper_code_schemes() {
   return {
@@ -144,4 +144,4 @@ std::string fp_theory_csv(const std::vector<FpTheoryRow>& rows) {
   return o.str();
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -39,6 +39,7 @@
 namespace {
 
 using namespace tagbench;
+using namespace tagbench::bench;
 
 struct Size {
   int width = 0, height = 0;

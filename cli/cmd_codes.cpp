@@ -13,6 +13,8 @@
 
 namespace tagbench::cli {
 
+using namespace tagbench::bench;  // the experiments these commands run
+
 namespace {
 constexpr const char* kHelp = R"(usage: tagbench codes [--out DIR] [--threads T]
 

@@ -24,6 +24,8 @@
 
 namespace tagbench::cli {
 
+using namespace tagbench::bench;  // the experiments these commands run
+
 namespace {
 constexpr const char* kHelp = R"(usage: tagbench falsepos complexity --candidates FILE [--out DIR] [--max-bits K] [--complexity LO-HI]
        tagbench falsepos codes --candidates FILE [--out DIR] [--max-bits K] [--family F...]

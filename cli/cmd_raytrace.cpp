@@ -18,6 +18,8 @@
 
 namespace tagbench::cli {
 
+using namespace tagbench::bench;  // the experiments these commands run
+
 namespace {
 
 constexpr const char* kHelp = R"(usage: tagbench raytrace angle|distance|conditions [--trials N] [--tag-size M] [--seed S]

@@ -15,6 +15,8 @@
 
 namespace tagbench::cli {
 
+using namespace tagbench::bench;  // the experiments these commands run
+
 namespace {
 constexpr const char* kHelp = R"(usage: tagbench scene [--width W] [--height H] [--family F] [--count N] [--seed S] -o FILE.png
 

@@ -9,6 +9,8 @@
 
 namespace tagbench::cli {
 
+using namespace tagbench::bench;  // the experiments these commands run
+
 namespace {
 
 std::string describe(const SweepFrame& f, Experiment e) {

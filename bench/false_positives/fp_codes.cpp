@@ -12,7 +12,7 @@
 #include "codes/lexicode.hpp"
 #include "tools/format.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 std::vector<ScoredFamily> complexity_families(int bits, int min_hamming, int lo, int hi, int threads) {
   if (lo < 0 || hi < lo) throw std::invalid_argument("complexity range " + std::to_string(lo) + ".." +
@@ -114,4 +114,4 @@ std::string code_curves_csv(const std::vector<CodeCurveRow>& rows) {
   return o.str();
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

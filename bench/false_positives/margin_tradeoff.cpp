@@ -12,7 +12,7 @@
 #include "codes/families.hpp"
 #include "tools/format.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 namespace {
 
@@ -223,4 +223,4 @@ std::string margin_steps_csv(const MarginTradeoff& t) {
   return o.str();
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -5,7 +5,7 @@
 // an image can hold several) gets the exact Poisson (Garwood) interval.
 #include <cstdint>
 
-namespace tagbench {
+namespace tagbench::bench {
 
 struct Interval {
   double lo = 0, hi = 0;
@@ -26,4 +26,4 @@ double regularized_gamma_p(double a, double x);
 // x such that P(a, x) = p, for 0 < p < 1 (the gamma(a, 1) distribution's quantile).
 double gamma_quantile(double a, double p);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -29,7 +29,7 @@
 #include "tools/hash.hpp"
 #include "tools/sysinfo.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 std::filesystem::path default_render_cache() {
   if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::filesystem::path(x) / "tagbench" / "raytrace";
@@ -493,4 +493,4 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
   return report;
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

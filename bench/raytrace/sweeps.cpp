@@ -22,7 +22,7 @@
 #include "tools/format.hpp"
 #include "tools/json.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 namespace {
 
@@ -797,4 +797,4 @@ std::string sidecar_json(const SweepResult& r) {
   return j;
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

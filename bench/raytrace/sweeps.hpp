@@ -33,7 +33,7 @@ namespace cv {
 class Mat;
 }
 
-namespace tagbench {
+namespace tagbench::bench {
 
 enum class Experiment { kAngle, kDistance, kConditions };
 const char* experiment_name(Experiment e);  // "angle", "distance", "conditions"
@@ -181,4 +181,4 @@ std::string sidecar_json(const SweepResult& result);
 // "fig9_angle", "fig10_distance", "conditions": the files' stem.
 const char* result_stem(Experiment e);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

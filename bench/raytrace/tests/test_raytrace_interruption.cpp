@@ -87,7 +87,7 @@ bool same_pixels(const fs::path& a, const fs::path& b) {
 }
 
 #define REQUIRE_POVRAY() \
-  if (!tagbench::find_povray()) GTEST_SKIP() << "povray is not installed"
+  if (!tagbench::bench::find_povray()) GTEST_SKIP() << "povray is not installed"
 
 }  // namespace
 
