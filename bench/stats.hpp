@@ -1,7 +1,7 @@
 #pragma once
-// 95 % confidence intervals for the false-positive rates (issue 5): a proportion (accepted quads
-// out of candidate quads, images with a false detection out of images) gets Wilson's score
-// interval; a count of events over an exposure (false detections per image or per megapixel, where
+// 95 % confidence intervals for the experiments' rates: a proportion (accepted quads out of
+// candidate quads, images with a false detection out of images, frames detected) gets Wilson's
+// score interval; a count of events over an exposure (false detections per image or per megapixel, where
 // an image can hold several) gets the exact Poisson (Garwood) interval.
 #include <cstdint>
 
