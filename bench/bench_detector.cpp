@@ -16,6 +16,7 @@
 namespace {
 
 using namespace tagbench;
+using namespace tagbench::bench;
 
 const cv::Mat& scene(int w, int h) {
   static std::map<std::pair<int, int>, cv::Mat> cache;  // benchmarks run sequentially

@@ -7,8 +7,9 @@
 
 #include "codes/families.hpp"
 #include "codes/tag_family.hpp"
+#include "tools/format.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 std::vector<CodeScheme> paper_code_schemes() {
   return {
@@ -91,11 +92,6 @@ std::vector<FpTheoryRow> fp_theory() {
 
 namespace {
 std::string opt(const std::optional<int>& v) { return v ? std::to_string(*v) : ""; }
-std::string num(double v, const char* fmt = "%.6g") {
-  char b[64];
-  std::snprintf(b, sizeof b, fmt, v);
-  return b;
-}
 }  // namespace
 
 std::string code_table_csv(const std::vector<CodeTableRow>& rows) {
@@ -124,7 +120,7 @@ std::string fig5_csv(const std::vector<CodeTableRow>& rows) {
     for (std::size_t k = 0; k < r.histogram.size(); ++k)
       o << '"' << r.scheme.scheme << "\"," << r.scheme.family << ',' << r.codes << ','
         << static_cast<unsigned long long>(total) << ',' << k << ',' << r.histogram[k] << ','
-        << num(static_cast<double>(r.histogram[k]) / total) << '\n';
+        << format_number(static_cast<double>(r.histogram[k]) / total, "%.6g") << '\n';
   }
   return o.str();
 }
@@ -137,14 +133,15 @@ std::string fp_theory_csv(const std::vector<FpTheoryRow>& rows) {
     o << r.family << ',' << r.codes << ',' << r.bits << ',' << r.min_hamming << ',' << r.bits_corrected << ','
       << (r.correctable ? "ok" : "N/A: beyond floor((h-1)/2)") << ',';
     if (r.correctable)
-      o << num(r.words_accepted, "%.0f") << ',' << num(r.fp_percent, "%.6e") << ',' << num(r.fp_percent_one_rotation, "%.6e");
+      o << format_number(r.words_accepted, "%.0f") << ',' << format_number(r.fp_percent, "%.6e") << ','
+        << format_number(r.fp_percent_one_rotation, "%.6e");
     else
       o << ",,";
-    o << ',' << (r.paper_fp_percent ? num(*r.paper_fp_percent, "%.6f") : std::string("N/A")) << ','
-      << (r.paper_implied_words ? num(*r.paper_implied_words, "%.1f") : "") << ','
-      << (r.paper_implied_words ? num(*r.paper_implied_words / 4, "%.1f") : "") << '\n';
+    o << ',' << (r.paper_fp_percent ? format_number(*r.paper_fp_percent, "%.6f") : std::string("N/A")) << ','
+      << (r.paper_implied_words ? format_number(*r.paper_implied_words, "%.1f") : "") << ','
+      << (r.paper_implied_words ? format_number(*r.paper_implied_words / 4, "%.1f") : "") << '\n';
   }
   return o.str();
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

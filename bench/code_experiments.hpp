@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace tagbench {
+namespace tagbench::bench {
 
 // A row of the experiments: a scheme as the paper names it and our family that implements it.
 struct CodeScheme {
@@ -50,4 +50,4 @@ std::string fp_theory_csv(const std::vector<FpTheoryRow>& rows);
 // sum_{i=0}^{k} C(n, i), exactly in double for n <= 64.
 double hamming_ball_volume(int n, int k);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -33,11 +33,13 @@
 
 #include "detect/detector.hpp"
 #include "scenes.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/format.hpp"
 
 namespace {
 
 using namespace tagbench;
+using namespace tagbench::bench;
 
 struct Size {
   int width = 0, height = 0;
@@ -153,12 +155,6 @@ std::vector<Size> parse_sizes(const std::string& list) {
   return out;
 }
 
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
 int run(int argc, char** argv) {
   std::string out = "results/memory.csv", family = "36h11", sizes = "640x480,1920x1080,8000x8000";
   int tags = 6;
@@ -196,15 +192,16 @@ int run(int argc, char** argv) {
       opt.half_resolution = set.half_resolution;
       const Measurement m = measure_in_child(scene.image, opt);
       const double mb = 1024.0 * 1024.0;
-      csv << s.width << ',' << s.height << ',' << fixed(pixels / 1e6, 3) << ',' << (set.half_resolution ? 1 : 0)
-          << ',' << family << ',' << opt.max_hamming << ',' << opt.seg_sigma << ',' << opt.max_pixels << ','
-          << scene.tags.size() << ',' << m.detections << ',' << fixed(m.ms, 1) << ',' << fixed(m.first_peak / mb, 1)
-          << ',' << fixed(m.first_peak / pixels, 1) << ',' << fixed(m.workspace / mb, 1) << ','
-          << fixed(m.warm_peak / mb, 2) << '\n';
-      std::cerr << "  " << set.name << ": peak +" << fixed(m.first_peak / mb, 1) << " MB ("
-                << fixed(m.first_peak / pixels, 1) << " B/px), workspace " << fixed(m.workspace / mb, 1)
-                << " MB, warm frame +" << fixed(m.warm_peak / mb, 2) << " MB, " << m.detections << "/"
-                << scene.tags.size() << " tags, " << fixed(m.ms, 0) << " ms\n";
+      csv << s.width << ',' << s.height << ',' << format_number(pixels / 1e6, "%.3f") << ','
+          << (set.half_resolution ? 1 : 0) << ',' << family << ',' << opt.max_hamming << ',' << opt.seg_sigma << ','
+          << opt.max_pixels << ',' << scene.tags.size() << ',' << m.detections << ',' << format_number(m.ms, "%.1f")
+          << ',' << format_number(m.first_peak / mb, "%.1f") << ',' << format_number(m.first_peak / pixels, "%.1f")
+          << ',' << format_number(m.workspace / mb, "%.1f") << ',' << format_number(m.warm_peak / mb, "%.2f") << '\n';
+      std::cerr << "  " << set.name << ": peak +" << format_number(m.first_peak / mb, "%.1f") << " MB ("
+                << format_number(m.first_peak / pixels, "%.1f") << " B/px), workspace "
+                << format_number(m.workspace / mb, "%.1f") << " MB, warm frame +"
+                << format_number(m.warm_peak / mb, "%.2f") << " MB, " << m.detections << "/" << scene.tags.size()
+                << " tags, " << format_number(m.ms, "%.0f") << " ms\n";
     }
   }
   write_file_atomic(out, csv.str());

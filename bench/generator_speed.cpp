@@ -9,9 +9,9 @@
 #include "codes/families.hpp"
 #include "codes/hamming_scan.hpp"
 #include "codes/lexicode.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/sysinfo.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 std::vector<GeneratorSpeedRow> measure_generator_speed(const std::vector<std::string>& families,
                                                        const std::vector<int>& thread_counts) {
@@ -138,4 +138,4 @@ std::string generator_speed_csv(const std::vector<GeneratorSpeedRow>& rows) {
   return o.str();
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace tagbench {
+namespace tagbench::bench {
 
 struct GeneratorSpeedRow {
   std::string family, source;  // source: "measured" (this run) or "recorded" (the family file's record)
@@ -28,4 +28,4 @@ std::vector<GeneratorSpeedRow> recorded_generator_runs();
 
 std::string generator_speed_csv(const std::vector<GeneratorSpeedRow>& rows);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

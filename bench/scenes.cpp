@@ -7,7 +7,7 @@
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 Scene make_scene(int width, int height, const std::string& family, int count, std::uint32_t seed) {
   const TagFamily& fam = builtin_family(family);
@@ -76,4 +76,4 @@ Scene make_scene(int width, int height, const std::string& family, int count, st
   return scene;
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

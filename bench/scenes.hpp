@@ -9,7 +9,7 @@
 
 #include "detect/homography.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 struct SceneTag {
   int id = 0;
@@ -26,4 +26,4 @@ struct Scene {
 // gradient and mild noise. Rendered at 2x and area-averaged down, so edges are anti-aliased.
 Scene make_scene(int width, int height, const std::string& family, int count, std::uint32_t seed);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -7,11 +7,13 @@
 #include "cli/commands.hpp"
 #include "code_experiments.hpp"
 #include "generator_speed.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/sysinfo.hpp"
 #include "codes/families.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace tagbench::cli {
+
+using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
 constexpr const char* kHelp = R"(usage: tagbench codes [--out DIR] [--threads T]

@@ -14,9 +14,9 @@
 #include "cli/commands.hpp"
 #include "scan.hpp"
 #include "codes/families.hpp"
-#include "util/atomic_file.hpp"
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
 

@@ -95,10 +95,11 @@
 #include "detect/detector.hpp"
 #include "detect/homography.hpp"
 #include "detect/image.hpp"
-#include "util/atomic_file.hpp"
-#include "util/json.hpp"
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/format.hpp"
+#include "tools/json.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
 
@@ -212,20 +213,8 @@ std::string one_line(const std::string& s, bool escape) {
   return out;
 }
 
-// Numbers in JSON: the shortest decimal that reads back to the same double; null when not finite.
-std::string num(double v) { return json_number(v); }
-
 // CSV: the same numbers, empty for non-finite; text fields quoted when they need it.
-std::string csv_num(double v) { return std::isfinite(v) ? num(v) : std::string(); }
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + '"';
-}
+std::string csv_num(double v) { return std::isfinite(v) ? json_number(v) : std::string(); }
 
 // ------------------------------------------------------------------------------------------------
 // Options
@@ -538,21 +527,22 @@ class Sink {
     for (std::size_t i = 0; i < det_.families().size(); ++i)
       h += (i ? ", " : "") + json_string(det_.families()[i].name());
     h += "], \"max_hamming\": " + std::to_string(o.max_hamming) +
-         ", \"min_decision_margin\": " + num(o.min_decision_margin) +
+         ", \"min_decision_margin\": " + json_number(o.min_decision_margin) +
          ", \"half_res\": " + (o.half_resolution ? "true" : "false") + ", \"camera\": ";
     if (o.camera)
-      h += "[" + num(o.camera->fx) + ", " + num(o.camera->fy) + ", " + num(o.camera->cx) + ", " + num(o.camera->cy) + "]";
+      h += "[" + json_number(o.camera->fx) + ", " + json_number(o.camera->fy) + ", " + json_number(o.camera->cx) +
+           ", " + json_number(o.camera->cy) + "]";
     else
       h += "null";
     h += ", \"distortion\": ";
     if (o.distortion) {
       h += "[";
-      for (std::size_t i = 0; i < 5; ++i) h += (i ? ", " : "") + num((*o.distortion)[i]);
+      for (std::size_t i = 0; i < 5; ++i) h += (i ? ", " : "") + json_number((*o.distortion)[i]);
       h += "]";
     } else {
       h += "null";
     }
-    h += ", \"tag_size\": " + (o.camera ? num(o.tag_size) : std::string("null")) + "},\n  \"images\": [";
+    h += ", \"tag_size\": " + (o.camera ? json_number(o.tag_size) : std::string("null")) + "},\n  \"images\": [";
     put(h);
   }
 
@@ -585,16 +575,19 @@ class Sink {
  private:
   void put(const std::string& s) { std::fwrite(s.data(), 1, s.size(), stdout); }
 
-  static std::string point(const Eigen::Vector2d& p) { return "[" + num(p.x()) + ", " + num(p.y()) + "]"; }
+  static std::string point(const Eigen::Vector2d& p) {
+    return "[" + json_number(p.x()) + ", " + json_number(p.y()) + "]";
+  }
   static std::string matrix(const Eigen::Matrix3d& m) {
     std::string s = "[";
     for (int i = 0; i < 3; ++i)
-      s += std::string(i ? ", " : "") + "[" + num(m(i, 0)) + ", " + num(m(i, 1)) + ", " + num(m(i, 2)) + "]";
+      s += std::string(i ? ", " : "") + "[" + json_number(m(i, 0)) + ", " + json_number(m(i, 1)) + ", " +
+           json_number(m(i, 2)) + "]";
     return s + "]";
   }
   static std::string pose(const PoseSolution& p) {
-    return "{\"R\": " + matrix(p.pose.R) + ", \"t\": [" + num(p.pose.t.x()) + ", " + num(p.pose.t.y()) + ", " +
-           num(p.pose.t.z()) + "], \"reprojection_rms_px\": " + num(p.reprojection_rms_px) + "}";
+    return "{\"R\": " + matrix(p.pose.R) + ", \"t\": [" + json_number(p.pose.t.x()) + ", " + json_number(p.pose.t.y()) +
+           ", " + json_number(p.pose.t.z()) + "], \"reprojection_rms_px\": " + json_number(p.reprojection_rms_px) + "}";
   }
 
   void emit_json(const Outcome& o) {
@@ -602,22 +595,23 @@ class Sink {
     s += "\"input\": " + json_string(o.label);
     if (o.frame_number >= 0) s += ", \"frame\": " + std::to_string(o.frame_number);
     s += ", \"width\": " + std::to_string(o.width) + ", \"height\": " + std::to_string(o.height) +
-         ", \"detect_ms\": " + num(o.detect_ms) + ", \"detections\": [";
+         ", \"detect_ms\": " + json_number(o.detect_ms) + ", \"detections\": [";
     for (std::size_t i = 0; i < o.detections.size(); ++i) {
       const Detection& d = o.detections[i];
       s += i ? ",\n      {" : "\n      {";
       s += "\"family\": " + json_string(d.family) + ", \"id\": " + std::to_string(d.id) +
            ", \"hamming\": " + std::to_string(d.hamming) + ", \"rotation\": " + std::to_string(d.rotation) +
-           ", \"decision_margin\": " + num(d.decision_margin) + ",\n       \"corners\": [";
+           ", \"decision_margin\": " + json_number(d.decision_margin) + ",\n       \"corners\": [";
       for (std::size_t k = 0; k < 4; ++k) s += (k ? ", " : "") + point(d.corners[k]);
       s += "], \"center\": " + point(d.center) + ",\n       \"homography\": " + matrix(d.homography);
       if (d.pose) s += ",\n       \"pose\": " + pose(*d.pose);
       if (d.pose_alternative) s += ",\n       \"pose_alternative\": " + pose(*d.pose_alternative);
       const StageTimings& t = d.timings;
-      s += ",\n       \"timings_ms\": {\"blur\": " + num(t.blur) + ", \"gradient\": " + num(t.gradient) +
-           ", \"segmentation\": " + num(t.segmentation) + ", \"line_fit\": " + num(t.line_fit) +
-           ", \"quads\": " + num(t.quads) + ", \"decode\": " + num(t.decode) + ", \"pose\": " + num(t.pose) +
-           ", \"total\": " + num(t.total) + "}}";
+      s += ",\n       \"timings_ms\": {\"blur\": " + json_number(t.blur) +
+           ", \"gradient\": " + json_number(t.gradient) + ", \"segmentation\": " + json_number(t.segmentation) +
+           ", \"line_fit\": " + json_number(t.line_fit) + ", \"quads\": " + json_number(t.quads) +
+           ", \"decode\": " + json_number(t.decode) + ", \"pose\": " + json_number(t.pose) +
+           ", \"total\": " + json_number(t.total) + "}}";
     }
     s += o.detections.empty() ? "]}" : "\n    ]}";
     put(s);

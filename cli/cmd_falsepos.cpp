@@ -17,12 +17,14 @@
 #include "fp_detectors.hpp"
 #include "margin_tradeoff.hpp"
 #include "raytrace/sweeps.hpp"
-#include "util/atomic_file.hpp"
-#include "util/json.hpp"
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/json.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
+
+using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
 constexpr const char* kHelp = R"(usage: tagbench falsepos complexity --candidates FILE [--out DIR] [--max-bits K] [--complexity LO-HI]

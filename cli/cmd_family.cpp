@@ -11,9 +11,9 @@
 #include "codes/family_io.hpp"
 #include "codes/hamming_scan.hpp"
 #include "codes/lexicode.hpp"
-#include "util/atomic_file.hpp"
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
 

@@ -13,10 +13,12 @@
 #include "cli/commands.hpp"
 #include "cli/sweep_progress.hpp"
 #include "raytrace/sweeps.hpp"
-#include "util/atomic_file.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
+
+using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
 

@@ -10,8 +10,8 @@
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
 #include "realistic/realistic_run.hpp"
-#include "util/atomic_file.hpp"
-#include "util/progress.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/progress.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 

@@ -8,7 +8,7 @@
 #include "cli/commands.hpp"
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace tagbench::cli {
 

@@ -11,9 +11,11 @@
 #include "cli/commands.hpp"
 #include "codes/families.hpp"
 #include "scenes.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace tagbench::cli {
+
+using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
 constexpr const char* kHelp = R"(usage: tagbench scene [--width W] [--height H] [--family F] [--count N] [--seed S] -o FILE.png

@@ -15,10 +15,10 @@
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
 #include "speed/speed_sets.hpp"
-#include "util/atomic_file.hpp"
-#include "util/json.hpp"
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/json.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
 

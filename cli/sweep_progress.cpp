@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <optional>
 
-#include "util/progress.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/progress.hpp"
+#include "tools/sysinfo.hpp"
 
 namespace tagbench::cli {
+
+using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
 

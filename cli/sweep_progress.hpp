@@ -11,11 +11,11 @@ namespace tagbench::cli {
 
 // The render options of --processes P (default: one per core), --cache DIR (default
 // default_render_cache()) and --povray PATH (default povray, from PATH).
-RenderOptions render_options(const Args& a);
+bench::RenderOptions render_options(const Args& a);
 
 // `command` prefixes the failure lines ("tagbench raytrace"); `label` names the bars ("raytrace
 // distance"). Throws what run_sweep throws.
-SweepResult run_sweep_with_progress(const SweepSettings& settings, const RenderOptions& render,
-                                    const std::string& command, const std::string& label);
+bench::SweepResult run_sweep_with_progress(const bench::SweepSettings& settings, const bench::RenderOptions& render,
+                                           const std::string& command, const std::string& label);
 
 }  // namespace tagbench::cli

@@ -1,11 +1,6 @@
 #include "build.hpp"
 
-#include <fcntl.h>
 #include <fnmatch.h>
-#include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -29,8 +24,9 @@
 
 #include "rcc.hpp"
 #include "sha256.hpp"
-#include "util/atomic_file.hpp"
-#include "util/progress.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/child_process.hpp"
+#include "tools/progress.hpp"
 
 namespace tagbench::corpus {
 
@@ -51,35 +47,6 @@ constexpr const char* kRccDir = "usr/share/gcompris-qt/rcc";
 bool is_rcc(const std::string& path) { return path.rfind(kRccPrefix, 0) == 0; }
 bool is_glob(const std::string& path) {
   return fs::path(path).filename().string().find_first_of("*?[") != std::string::npos;
-}
-
-// Runs argv in `cwd` with stdout and stderr into `log`; returns the exit status (or 128 + signal).
-int run_process(const std::vector<std::string>& argv, const fs::path& cwd, const fs::path& log) {
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const std::string dir = cwd.string(), logfile = log.string();
-  const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error("cannot start " + argv[0]);
-  if (pid == 0) {
-    // Dies with us: an orphaned dpkg-deb would go on writing into the folder a rerun unpacks into
-    // again, an orphaned apt-get into the cache. (Sent when the forking thread ends; it waits here.)
-    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(126);
-    const int fd = ::open(logfile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int in = ::open("/dev/null", O_RDONLY);
-    if (fd < 0 || in < 0 || ::chdir(dir.c_str()) != 0) ::_exit(126);
-    ::dup2(in, 0);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    ::execvp(args[0], args.data());
-    ::_exit(127);
-  }
-  int st = 0;
-  while (::waitpid(pid, &st, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error("waiting for " + argv[0] + " failed");
-  }
-  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }
 
 std::string last_line(const fs::path& log) {
@@ -177,7 +144,7 @@ struct Builder {
     fs::create_directories(dl);
     const RemoveOnExit cleanup{dl};
     const fs::path log = dl / "apt-get.log";
-    const int rc = run_process({"apt-get", "download", "-q", p.name + "=" + p.version}, dl, log);
+    const int rc = run_child({"apt-get", "download", "-q", p.name + "=" + p.version}, dl, log).code();
     if (rc != 0)
       throw std::runtime_error("apt-get download " + p.name + "=" + p.version + " failed (exit " + std::to_string(rc) +
                                "): " + last_line(log));
@@ -238,7 +205,8 @@ struct Builder {
     fs::create_directories(tmp);
     const RemoveOnExit cleanup{tmp};
     const fs::path log = opt.out / ".work" / (sanitize(p.name) + ".log");
-    const int rc = run_process({"dpkg-deb", "-x", fs::absolute(deb).string(), fs::absolute(tmp).string()}, ".", log);
+    const int rc =
+        run_child({"dpkg-deb", "-x", fs::absolute(deb).string(), fs::absolute(tmp).string()}, ".", log).code();
     if (rc != 0)
       throw std::runtime_error("dpkg-deb -x " + deb.string() + " failed (exit " + std::to_string(rc) +
                                "): " + last_line(log));

@@ -24,7 +24,8 @@
 #include "detect/payload_decode.hpp"
 #include "scan.hpp"
 #include "sources.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/hash.hpp"
 
 namespace fs = std::filesystem;
 
@@ -48,15 +49,6 @@ T get(const char* p) {
   T v;
   std::memcpy(&v, p, sizeof(T));
   return v;
-}
-
-std::uint64_t fnv1a(const char* p, std::size_t n) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (std::size_t i = 0; i < n; ++i) {
-    h ^= static_cast<unsigned char>(p[i]);
-    h *= 0x100000001b3ULL;
-  }
-  return h;
 }
 
 std::string clean(std::string s) {
@@ -272,7 +264,7 @@ std::string encode_candidates(const CandidateStore& s) {
   put<std::uint64_t>(out, s.images.size());
   put<std::uint64_t>(out, s.quads);
   put<std::uint64_t>(out, s.records.size());
-  put<std::uint64_t>(out, fnv1a(body.data(), body.size()));
+  put<std::uint64_t>(out, fnv1a64(body));
   put<std::uint32_t>(out, static_cast<std::uint32_t>(s.settings.size()));
   out += body;
   return out;
@@ -301,7 +293,8 @@ CandidateStore decode_candidates(const std::string& bytes, const std::string& na
       settings_len + n_records * kRecordSize != avail)
     fail("size " + std::to_string(bytes.size()) + " bytes does not match the header (" + std::to_string(n_records) +
          " records of " + std::to_string(kRecordSize) + " bytes); truncated or damaged");
-  if (fnv1a(bytes.data() + kHeaderSize, avail) != checksum) fail("checksum mismatch; the file is damaged");
+  if (fnv1a64(std::string_view(bytes.data() + kHeaderSize, avail)) != checksum)
+    fail("checksum mismatch; the file is damaged");
   if (n_images > kMaxCandidateImages)
     fail("image count " + std::to_string(n_images) + " is over the limit of " + std::to_string(kMaxCandidateImages));
   CandidateStore s;
@@ -446,7 +439,7 @@ std::uint64_t image_list_hash(const std::vector<CandidateImage>& images, std::si
   std::string text;
   for (std::size_t i = first; i < last; ++i)
     text += images[i].file + "\t" + clean(images[i].group) + "\t" + clean(images[i].kind) + "\n";
-  return fnv1a(text.data(), text.size());
+  return fnv1a64(text);
 }
 
 namespace {

@@ -5,7 +5,7 @@
 
 #include <stdexcept>
 
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace tagbench::corpus {
 

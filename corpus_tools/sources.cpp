@@ -4,7 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 namespace tagbench::corpus {
 

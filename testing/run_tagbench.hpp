@@ -30,6 +30,7 @@ inline std::string shell_quote(const std::string& s) {
   return r + "'";
 }
 
+#ifdef TAGBENCH_BIN  // tests that run the program: tagbench_add_test(... NEEDS_CLI)
 // `tagbench ARGS`, its output captured in files inside `dir` (which must exist).
 inline CommandResult run_tagbench(const std::string& args, const std::filesystem::path& dir) {
   const std::filesystem::path out = dir / "stdout", err = dir / "stderr";
@@ -38,5 +39,6 @@ inline CommandResult run_tagbench(const std::string& args, const std::filesystem
   const int st = std::system(cmd.c_str());
   return {WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), slurp(out), slurp(err)};
 }
+#endif
 
 }  // namespace tagbench::testing

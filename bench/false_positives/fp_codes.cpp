@@ -10,8 +10,9 @@
 #include "code_experiments.hpp"
 #include "codes/families.hpp"
 #include "codes/lexicode.hpp"
+#include "tools/format.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 std::vector<ScoredFamily> complexity_families(int bits, int min_hamming, int lo, int hi, int threads) {
   if (lo < 0 || hi < lo) throw std::invalid_argument("complexity range " + std::to_string(lo) + ".." +
@@ -100,15 +101,6 @@ std::vector<CodeCurveRow> code_curves(const corpus::CandidateStore& store, const
   return rows;
 }
 
-namespace {
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-}  // namespace
-
 std::string code_curves_csv(const std::vector<CodeCurveRow>& rows) {
   std::ostringstream o;
   o.precision(6);
@@ -122,4 +114,4 @@ std::string code_curves_csv(const std::vector<CodeCurveRow>& rows) {
   return o.str();
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

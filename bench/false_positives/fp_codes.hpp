@@ -16,7 +16,7 @@
 #include "codes/tag_family.hpp"
 #include "stats.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 struct ScoredFamily {
   std::string scheme;  // as the paper names it, e.g. "ARToolkit+ (BCH)" or "25h9, complexity >= 3"
@@ -56,4 +56,4 @@ double random_payload_rate(std::size_t codes, int bits, int k);
 
 std::string code_curves_csv(const std::vector<CodeCurveRow>& rows);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

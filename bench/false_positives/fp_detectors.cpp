@@ -15,7 +15,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-namespace tagbench {
+namespace tagbench::bench {
 
 namespace {
 
@@ -233,4 +233,4 @@ std::string fp_detections_csv(const FpDetectorsRun& run) {
   return o.str();
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

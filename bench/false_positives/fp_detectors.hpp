@@ -14,7 +14,7 @@
 #include "raytrace/comparators.hpp"
 #include "stats.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 struct FpDetectorsOptions {
   // tagbench-full: our detector's defaults (1 bit corrected); libapriltag-d2: libapriltag 3.3's
@@ -70,4 +70,4 @@ std::string fp_detectors_csv(const std::vector<FpDetectorRow>& rows);
 // decision_margin (empty when the detector does not report one).
 std::string fp_detections_csv(const FpDetectorsRun& run);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -10,8 +10,9 @@
 #include <stdexcept>
 
 #include "codes/families.hpp"
+#include "tools/format.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 namespace {
 
@@ -55,13 +56,6 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::string num(double v, const char* format = "%.6g") {
-  if (std::isnan(v)) return "";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
 }  // namespace
 
 std::vector<double> default_margin_thresholds() {
@@ -74,7 +68,7 @@ void check_margin_thresholds(const std::vector<double>& thresholds) {
   if (thresholds.empty()) throw std::invalid_argument("no threshold given");
   for (std::size_t i = 0; i < thresholds.size(); ++i) {
     if (!(thresholds[i] >= 0 && thresholds[i] <= 1))
-      throw std::invalid_argument("the threshold " + num(thresholds[i]) + " is outside 0..1");
+      throw std::invalid_argument("the threshold " + format_number(thresholds[i], "%.6g") + " is outside 0..1");
     if (i && !(thresholds[i] > thresholds[i - 1]))
       throw std::invalid_argument("the thresholds must be ascending without repeats");
   }
@@ -198,19 +192,20 @@ std::string margin_summary_csv(const MarginTradeoff& t) {
   o << '\n';
   for (const auto& s : t.summary) {
     if (s.parts.size() != parts.size()) throw std::invalid_argument("families with different sweeps in one table");
-    o << s.family << ',' << kMarginDetector << ',' << num(s.threshold, "%.4g") << ',' << s.images << ','
-      << num(s.megapixels) << ',' << s.false_detections << ',' << num(s.fp_per_image) << ','
-      << num(s.fp_per_image_ci.lo) << ',' << num(s.fp_per_image_ci.hi) << ',' << s.images_with_false << ','
-      << num(s.image_share) << ',' << num(s.image_share_ci.lo) << ',' << num(s.image_share_ci.hi);
+    o << s.family << ',' << kMarginDetector << ',' << format_cell(s.threshold, "%.4g") << ',' << s.images << ','
+      << format_cell(s.megapixels, "%.6g") << ',' << s.false_detections << ',' << format_cell(s.fp_per_image, "%.6g")
+      << ',' << format_cell(s.fp_per_image_ci.lo, "%.6g") << ',' << format_cell(s.fp_per_image_ci.hi, "%.6g") << ','
+      << s.images_with_false << ',' << format_cell(s.image_share, "%.6g") << ','
+      << format_cell(s.image_share_ci.lo, "%.6g") << ',' << format_cell(s.image_share_ci.hi, "%.6g");
     double range = kNaN;
     for (std::size_t i = 0; i < parts.size(); ++i) {
       const auto& p = s.parts[i];
       if (p.part != parts[i]) throw std::invalid_argument("families with different sweeps in one table");
-      o << ',' << p.frames << ',' << p.detected << ',' << num(p.rate) << ',' << num(p.rate_ci.lo) << ','
-        << num(p.rate_ci.hi);
+      o << ',' << p.frames << ',' << p.detected << ',' << format_cell(p.rate, "%.6g") << ','
+        << format_cell(p.rate_ci.lo, "%.6g") << ',' << format_cell(p.rate_ci.hi, "%.6g");
       if (p.part == "distance") range = p.range_m;
     }
-    if (distance) o << ',' << num(range);
+    if (distance) o << ',' << format_cell(range, "%.6g");
     o << '\n';
   }
   return o.str();
@@ -221,10 +216,11 @@ std::string margin_steps_csv(const MarginTradeoff& t) {
   o << "family,detector,threshold,part,step,step_unit,frames,detected,rate,rate_ci95_lo,rate_ci95_hi,"
        "black_square_px_median\n";
   for (const auto& s : t.steps)
-    o << s.family << ',' << kMarginDetector << ',' << num(s.threshold, "%.4g") << ',' << s.part << ',' << num(s.step)
-      << ',' << s.step_unit << ',' << s.frames << ',' << s.detected << ',' << num(s.rate) << ',' << num(s.rate_ci.lo)
-      << ',' << num(s.rate_ci.hi) << ',' << num(s.black_square_px_median, "%.4f") << '\n';
+    o << s.family << ',' << kMarginDetector << ',' << format_cell(s.threshold, "%.4g") << ',' << s.part << ','
+      << format_cell(s.step, "%.6g") << ',' << s.step_unit << ',' << s.frames << ',' << s.detected << ','
+      << format_cell(s.rate, "%.6g") << ',' << format_cell(s.rate_ci.lo, "%.6g") << ','
+      << format_cell(s.rate_ci.hi, "%.6g") << ',' << format_cell(s.black_square_px_median, "%.4f") << '\n';
   return o.str();
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -21,7 +21,7 @@
 #include "raytrace/sweeps.hpp"
 #include "stats.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 // 0, 0.05, ..., 0.95.
 std::vector<double> default_margin_thresholds();
@@ -88,4 +88,4 @@ std::string margin_summary_csv(const MarginTradeoff& t);
 // rate, rate_ci95_lo, rate_ci95_hi, black_square_px_median.
 std::string margin_steps_csv(const MarginTradeoff& t);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -21,7 +21,7 @@
 #include "codes/families.hpp"
 #include "detect/detector.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 DetectorOutput Comparator::run(const cv::Mat& gray8) {
   if (gray8.empty() || gray8.type() != CV_8UC1) throw std::invalid_argument(name_ + ": needs an 8-bit gray image");
@@ -288,4 +288,4 @@ FoundErrors found_errors(const Found& found, const GroundTruth& truth) {
   return e;
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -44,7 +44,7 @@ namespace cv {
 class Mat;
 }
 
-namespace tagbench {
+namespace tagbench::bench {
 
 struct Found {
   std::string family;
@@ -107,4 +107,4 @@ struct FoundErrors {
 };
 FoundErrors found_errors(const Found& found, const GroundTruth& truth);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -1,9 +1,5 @@
 #include "raytrace/render.hpp"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,10 +23,13 @@
 
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
-#include "util/atomic_file.hpp"
-#include "util/sysinfo.hpp"
+#include "tools/atomic_file.hpp"
+#include "tools/child_process.hpp"
+#include "tools/format.hpp"
+#include "tools/hash.hpp"
+#include "tools/sysinfo.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 std::filesystem::path default_render_cache() {
   if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::filesystem::path(x) / "tagbench" / "raytrace";
@@ -49,15 +48,6 @@ namespace fs = std::filesystem;
 const char* const kRenderFlags[] = {"+FN", "-D", "+W400", "+H400", "+A0.1", "+AM2", "+R3", "File_Gamma=1.0", "-V"};
 constexpr const char* kPlaceholder = "@FRAME_SWITCH@";
 
-std::uint64_t fnv1a64(std::string_view s) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const unsigned char c : s) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
-
 std::string hex64(std::uint64_t v) {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
@@ -66,12 +56,6 @@ std::string hex64(std::uint64_t v) {
 
 // Cache keys: 64-bit FNV-1a as 16 hex digits (for 10^5 frames the chance of any collision is ~3e-10).
 std::string key_of(std::string_view text) { return hex64(fnv1a64(text)); }
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 std::string cells_text(const TagCells& c) {
   std::string s = std::to_string(c.n) + ":";
@@ -107,7 +91,7 @@ std::optional<fs::path> find_executable(const std::string& name) {
 }
 
 // POV-Ray's error message from its log: the first line naming an error, with its wrapped continuation lines.
-std::string povray_error(const fs::path& log, int status) {
+std::string povray_error(const fs::path& log, const ChildStatus& status) {
   std::string text;
   try {
     text = read_file(log);
@@ -125,49 +109,9 @@ std::string povray_error(const fs::path& log, int status) {
     for (std::size_t j = i + 1; j < lines.size() && !lines[j].empty() && lines[j][0] == ' '; ++j) msg += lines[j];
     return "povray: " + msg;
   }
-  if (WIFSIGNALED(status)) return "povray was killed by signal " + std::to_string(WTERMSIG(status));
-  if (WIFEXITED(status) && WEXITSTATUS(status) != 0)
-    return "povray exited with status " + std::to_string(WEXITSTATUS(status));
+  if (status.signal != 0) return "povray was killed by signal " + std::to_string(status.signal);
+  if (status.exit_code != 0) return "povray exited with status " + std::to_string(status.exit_code);
   return "povray wrote no image for this frame";
-}
-
-// Runs povray with `args` in `dir`, its output into `log`; returns the wait status.
-int run_povray(const fs::path& exe, const std::vector<std::string>& args, const fs::path& dir, const fs::path& log,
-               int nice_increment) {
-  std::vector<std::string> all{exe.string()};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string dir_s = dir.string(), log_s = log.string();
-  const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error("cannot start povray: fork failed");
-  if (pid == 0) {  // only async-signal-safe calls from here on
-    // POV-Ray dies with us: after a kill -9 an orphan would render on for minutes, for nobody (its
-    // frames are only ever moved into the cache by this process). The signal comes when the forking
-    // thread ends, and that thread waits for this child.
-    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(126);
-    if (::chdir(dir_s.c_str()) != 0) ::_exit(126);
-    const int fd = ::open(log_s.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int null = ::open("/dev/null", O_RDONLY);
-    if (fd < 0 || null < 0) ::_exit(126);
-    ::dup2(null, 0);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    if (fd > 2) ::close(fd);
-    if (null > 2) ::close(null);
-    if (nice_increment != 0 && ::nice(nice_increment) == -1) {
-      // a failed nice is harmless
-    }
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
-  }
-  return status;
 }
 
 bool decodes_as_frame(const fs::path& png) {
@@ -216,9 +160,9 @@ const char* scene_name(SceneKind kind) { return kind == SceneKind::kPlain ? "pla
 
 Pose view_pose(const ViewSpec& v, const CameraIntrinsics& K) {
   if (!(v.distance > 0) || !std::isfinite(v.distance))
-    throw std::invalid_argument("view distance must be > 0 (got " + num(v.distance) + ")");
+    throw std::invalid_argument("view distance must be > 0 (got " + exact_number(v.distance) + ")");
   if (!(v.phi_deg >= 0 && v.phi_deg < 90))
-    throw std::invalid_argument("view angle phi must be in [0, 90) degrees (got " + num(v.phi_deg) + ")");
+    throw std::invalid_argument("view angle phi must be in [0, 90) degrees (got " + exact_number(v.phi_deg) + ")");
   const double deg = M_PI / 180;
   const Eigen::Vector3d d =
       Eigen::Vector3d((v.pixel.x() - K.cx) / K.fx, (v.pixel.y() - K.cy) / K.fy, 1.0).normalized();
@@ -270,13 +214,14 @@ std::string frame_case(int number, const FramePose& f, const FrameScene& scene) 
   const Eigen::Vector3d tp = S * f.pose.t;
   std::string m;  // `matrix` takes row vectors: the columns of R_pov, then t_pov
   for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r) m += num(Rp(r, c)) + ", ";
-  m += num(tp.x()) + ", " + num(tp.y()) + ", " + num(tp.z());
+    for (int r = 0; r < 3; ++r) m += exact_number(Rp(r, c)) + ", ";
+  m += exact_number(tp.x()) + ", " + exact_number(tp.y()) + ", " + exact_number(tp.z());
   std::string s = "#case (" + std::to_string(number) + ")\n";
   s += "  #declare TagPng = \"" + scene.tag_png + "\";\n";
-  s += "  #declare TagWidth = " + num(scene.tag_width) + ";\n";
-  s += "  #declare TagSize = " + num(f.tag_size) + ";\n";
-  s += "  #declare TagPosition = <" + num(tp.x()) + ", " + num(tp.y()) + ", " + num(tp.z()) + ">;\n";
+  s += "  #declare TagWidth = " + exact_number(scene.tag_width) + ";\n";
+  s += "  #declare TagSize = " + exact_number(f.tag_size) + ";\n";
+  s += "  #declare TagPosition = <" + exact_number(tp.x()) + ", " + exact_number(tp.y()) + ", " + exact_number(tp.z()) +
+       ">;\n";
   s += "  #declare TagPose = transform { matrix <" + m + "> }\n";
   if (!f.extra_sdl.empty()) s += f.extra_sdl + "\n";
   s += "  #break\n";
@@ -297,7 +242,7 @@ std::string frame_key_text(const FramePose& f, const std::string& template_key, 
 void check_frame(const FramePose& f, std::size_t index) {
   const std::string where = "frame " + std::to_string(index) + ": ";
   if (!(f.tag_size > 0) || !std::isfinite(f.tag_size))
-    throw std::invalid_argument(where + "tag size must be > 0 (got " + num(f.tag_size) + ")");
+    throw std::invalid_argument(where + "tag size must be > 0 (got " + exact_number(f.tag_size) + ")");
   if (!finite_pose(f.pose)) throw std::invalid_argument(where + "the pose is not finite");
   if (!(f.pose.R.transpose() * f.pose.R).isApprox(Eigen::Matrix3d::Identity(), 1e-6) || f.pose.R.determinant() < 0)
     throw std::invalid_argument(where + "R is not a rotation");
@@ -467,7 +412,11 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
           for (const char* q : kRenderFlags) args.emplace_back(q);
           args.insert(args.end(), {"+WT1", "+KFI1", "+KFF" + std::to_string(final_frame), "+SF" + std::to_string(next),
                                    "+EF" + std::to_string(chunk.second)});
-          const int status = run_povray(*exe, args, dir, dir / log, options.nice);
+          // POV-Ray dies with us (run_child): after a kill -9 an orphan would render on for minutes,
+          // for nobody (its frames are only ever moved into the cache by this process).
+          std::vector<std::string> argv{exe->string()};
+          argv.insert(argv.end(), args.begin(), args.end());
+          const ChildStatus status = run_child(argv, dir, dir / log, options.nice);
           ++runs;
           int k = next;
           std::size_t newly = 0;
@@ -544,4 +493,4 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
   return report;
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

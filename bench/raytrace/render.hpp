@@ -31,7 +31,7 @@ namespace cv {
 class Mat;
 }
 
-namespace tagbench {
+namespace tagbench::bench {
 
 inline constexpr int kRenderWidth = 400, kRenderHeight = 400;
 inline constexpr double kRenderFocalPx = 400;
@@ -123,4 +123,4 @@ std::string frame_cache_key(const FramePose& frame, const std::string& scene_tem
 // file does not decode.
 cv::Mat read_frame_gray(const std::filesystem::path& png);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -19,21 +19,16 @@
 
 #include "codes/families.hpp"
 #include "detect/detector.hpp"
-#include "util/json.hpp"
+#include "stats.hpp"
+#include "tools/format.hpp"
+#include "tools/json.hpp"
 
-namespace tagbench {
+namespace tagbench::bench {
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDeg = M_PI / 180;
-
-std::string num(double v, const char* format = "%.10g") {
-  if (!std::isfinite(v)) return "";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
 
 // ---- randomness: splitmix64, portable (no std:: distributions, whose outputs are library-defined) ----
 
@@ -78,9 +73,10 @@ std::string occluder_sdl(double fraction, double tag_size, int cells, SceneKind 
   const double x0 = -fraction * s / 2, x1 = fraction * s / 2;
   const double y0 = -s / 2 - 1.5 * cell, y1 = -s / 2 + 0.5 * cell;
   const double z0 = -0.03 * s, z1 = -0.01 * s;
-  return "  box { <" + num(x0, "%.17g") + ", " + num(y0, "%.17g") + ", " + num(z0, "%.17g") + ">, <" +
-         num(x1, "%.17g") + ", " + num(y1, "%.17g") + ", " + num(z1, "%.17g") + ">\n    texture { pigment { color rgb " +
-         num(kOccluderGrey) + " } " + scene_finish(scene) + " }\n    transform { TagPose } }";
+  return "  box { <" + format_cell(x0, "%.17g") + ", " + format_cell(y0, "%.17g") + ", " + format_cell(z0, "%.17g") +
+         ">, <" + format_cell(x1, "%.17g") + ", " + format_cell(y1, "%.17g") + ", " + format_cell(z1, "%.17g") +
+         ">\n    texture { pigment { color rgb " + format_cell(kOccluderGrey, "%.10g") + " } " + scene_finish(scene) +
+         " }\n    transform { TagPose } }";
 }
 
 // The tag folded along its vertical centre line: the template's flat tag is moved out of view (behind
@@ -92,8 +88,9 @@ std::string bent_sdl(double bend_deg, SceneKind scene) {
     const double s = sgn * sn;  // x' = c x + s z, z' = -s x + c z (POV-Ray's matrix takes row vectors)
     return std::string("    polygon { 4, ") + poly +
            "\n      texture { pigment { image_map { png TagPng gamma 1.0 once } } " + scene_finish(scene) +
-           " }\n      translate <-0.5, -0.5, 0> scale <TagWidth, TagWidth, 1>\n      matrix <" + num(c, "%.17g") +
-           ", 0, " + num(-s, "%.17g") + ", 0, 1, 0, " + num(s, "%.17g") + ", 0, " + num(c, "%.17g") + ", 0, 0, 0> }\n";
+           " }\n      translate <-0.5, -0.5, 0> scale <TagWidth, TagWidth, 1>\n      matrix <" +
+           format_cell(c, "%.17g") + ", 0, " + format_cell(-s, "%.17g") + ", 0, 1, 0, " + format_cell(s, "%.17g") +
+           ", 0, " + format_cell(c, "%.17g") + ", 0, 0, 0> }\n";
   };
   return "  #declare BentPose = transform { TagPose }\n"
          "  #declare TagPose = transform { translate <0, 0, -1000000> }\n"
@@ -322,7 +319,7 @@ SweepSettings resolve_settings(const SweepSettings& in) {
   if (s.trials <= 0) throw std::invalid_argument("trials must be > 0 (got " + std::to_string(s.trials) + ")");
   if (!s.tag_size) s.tag_size = s.experiment == Experiment::kDistance ? 1.0 : 0.166;
   if (!(*s.tag_size > 0) || !std::isfinite(*s.tag_size))
-    throw std::invalid_argument("tag size must be > 0 metres (got " + num(*s.tag_size) + ")");
+    throw std::invalid_argument("tag size must be > 0 metres (got " + format_cell(*s.tag_size, "%.10g") + ")");
   if (s.detectors.empty()) s.detectors = comparator_names();
   std::set<std::string> seen;
   for (const auto& d : s.detectors) {
@@ -358,17 +355,17 @@ SweepSettings resolve_settings(const SweepSettings& in) {
   } else {
     if (!s.distance) s.distance = 1.0;
     if (!(*s.distance > 0) || !std::isfinite(*s.distance))
-      throw std::invalid_argument("distance must be > 0 metres (got " + num(*s.distance) + ")");
+      throw std::invalid_argument("distance must be > 0 metres (got " + format_cell(*s.distance, "%.10g") + ")");
   }
   if (s.experiment != Experiment::kConditions) {
     if (s.steps.empty()) s.steps = default_steps(s.experiment);
     std::set<double> steps;
     for (const double v : s.steps) {
       if (s.experiment == Experiment::kAngle && !(v >= 0 && v < 90))
-        throw std::invalid_argument("angle " + num(v) + " is outside [0, 90) degrees");
+        throw std::invalid_argument("angle " + format_cell(v, "%.10g") + " is outside [0, 90) degrees");
       if (s.experiment == Experiment::kDistance && (!(v > 0) || !std::isfinite(v)))
-        throw std::invalid_argument("distance must be > 0 metres (got " + num(v) + ")");
-      if (!steps.insert(v).second) throw std::invalid_argument("step " + num(v) + " given twice");
+        throw std::invalid_argument("distance must be > 0 metres (got " + format_cell(v, "%.10g") + ")");
+      if (!steps.insert(v).second) throw std::invalid_argument("step " + format_cell(v, "%.10g") + " given twice");
     }
   }
   return s;
@@ -613,14 +610,6 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
 
 // ---- summaries -----------------------------------------------------------------------------------------
 
-std::pair<double, double> wilson_interval(int k, int n) {
-  if (n <= 0) return {0, 1};
-  const double z = 1.959963984540054, p = static_cast<double>(k) / n, z2n = z * z / n;
-  const double centre = (p + z2n / 2) / (1 + z2n);
-  const double half = z * std::sqrt(p * (1 - p) / n + z2n / (4 * n)) / (1 + z2n);
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
-}
-
 double quantile(std::vector<double> v, double q) {
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
   if (v.empty()) return kNaN;
@@ -667,7 +656,9 @@ std::vector<SummaryRow> summarize(const SweepResult& r) {
   for (Acc& a : groups) {
     SummaryRow& s = a.row;
     s.detection_rate = static_cast<double>(s.detected) / s.frames;
-    std::tie(s.rate_lo95, s.rate_hi95) = wilson_interval(s.detected, s.frames);
+    const Interval ci = wilson_interval(static_cast<std::uint64_t>(s.detected), static_cast<std::uint64_t>(s.frames));
+    s.rate_lo95 = ci.lo;
+    s.rate_hi95 = ci.hi;
     s.black_square_px_median = quantile(a.px, 0.5);
     s.ms_median = quantile(a.ms, 0.5);
     s.orientation_deg = stats(a.o);
@@ -689,17 +680,17 @@ std::string rows_csv(const SweepResult& r) {
       "distance_error_m,distance_error_percent,corner_rms_px,decision_margin,ms\n";
   for (const SweepRow& row : r.rows) {
     const SweepFrame& f = r.frames[row.frame];
-    o += std::string(experiment_name(s.experiment)) + "," + condition_name(f.condition) + "," + num(f.step) + "," +
-         step_unit(f, s.experiment) + "," + std::to_string(f.trial) + "," + std::to_string(f.seed) + "," +
-         std::to_string(f.frame.id) + "," + scene_name(s.scene) + "," + f.frame.family + "," + num(f.frame.tag_size) +
-         "," + num(f.frame.pose.t.norm()) + "," + num(view_angle_deg(f.frame.pose), "%.6f") + "," +
-         num(f.view.tilt_axis_deg, "%.6f") + "," + num(f.view.roll_deg, "%.6f") + "," + num(f.view.pixel.x(), "%.4f") +
-         "," + num(f.view.pixel.y(), "%.4f") + "," + num(f.truth.black_square_px, "%.4f") + "," + row.detector + "," +
-         (row.detected_right_id ? "1" : "0") + "," + (row.wrong_id ? "1" : "0") + "," +
-         num(row.orientation_error_deg, "%.6g") + "," + num(row.distance_error_m, "%.6g") + "," +
-         num(row.distance_error_percent, "%.6g") + "," + num(row.corner_rms_px, "%.6g") + "," +
-         num(row.decision_margin, "%.6g") + "," + num(row.ms, "%.4f") +
-         "\n";
+    o += std::string(experiment_name(s.experiment)) + "," + condition_name(f.condition) + "," +
+         format_cell(f.step, "%.10g") + "," + step_unit(f, s.experiment) + "," + std::to_string(f.trial) + "," +
+         std::to_string(f.seed) + "," + std::to_string(f.frame.id) + "," + scene_name(s.scene) + "," + f.frame.family +
+         "," + format_cell(f.frame.tag_size, "%.10g") + "," + format_cell(f.frame.pose.t.norm(), "%.10g") + "," +
+         format_cell(view_angle_deg(f.frame.pose), "%.6f") + "," + format_cell(f.view.tilt_axis_deg, "%.6f") + "," +
+         format_cell(f.view.roll_deg, "%.6f") + "," + format_cell(f.view.pixel.x(), "%.4f") + "," +
+         format_cell(f.view.pixel.y(), "%.4f") + "," + format_cell(f.truth.black_square_px, "%.4f") + "," +
+         row.detector + "," + (row.detected_right_id ? "1" : "0") + "," + (row.wrong_id ? "1" : "0") + "," +
+         format_cell(row.orientation_error_deg, "%.6g") + "," + format_cell(row.distance_error_m, "%.6g") + "," +
+         format_cell(row.distance_error_percent, "%.6g") + "," + format_cell(row.corner_rms_px, "%.6g") + "," +
+         format_cell(row.decision_margin, "%.6g") + "," + format_cell(row.ms, "%.4f") + "\n";
   }
   return o;
 }
@@ -713,17 +704,18 @@ std::string summary_csv(const SweepResult& r, const std::vector<SummaryRow>& sum
       "distance_error_percent_median,distance_error_percent_p10,distance_error_percent_p90,"
       "corner_rms_px_median,corner_rms_px_p10,corner_rms_px_p90,ms_median\n";
   const auto st = [](const ErrorStats& e) {
-    return num(e.median, "%.6g") + "," + num(e.p10, "%.6g") + "," + num(e.p90, "%.6g");
+    return format_cell(e.median, "%.6g") + "," + format_cell(e.p10, "%.6g") + "," + format_cell(e.p90, "%.6g");
   };
   for (const SummaryRow& s : summary) {
     SweepFrame probe;
     probe.condition = s.condition;
-    o += std::string(experiment_name(r.settings.experiment)) + "," + condition_name(s.condition) + "," + num(s.step) +
-         "," + step_unit(probe, r.settings.experiment) + "," + s.detector + "," + std::to_string(s.frames) + "," +
-         std::to_string(s.detected) + "," + num(s.detection_rate, "%.6g") + "," + num(s.rate_lo95, "%.6g") + "," +
-         num(s.rate_hi95, "%.6g") + "," + std::to_string(s.wrong_id_frames) + "," +
-         num(s.black_square_px_median, "%.4f") + "," + st(s.orientation_deg) + "," + st(s.distance_m) + "," +
-         st(s.distance_percent) + "," + st(s.corner_rms_px) + "," + num(s.ms_median, "%.4f") + "\n";
+    o += std::string(experiment_name(r.settings.experiment)) + "," + condition_name(s.condition) + "," +
+         format_cell(s.step, "%.10g") + "," + step_unit(probe, r.settings.experiment) + "," + s.detector + "," +
+         std::to_string(s.frames) + "," + std::to_string(s.detected) + "," + format_cell(s.detection_rate, "%.6g") +
+         "," + format_cell(s.rate_lo95, "%.6g") + "," + format_cell(s.rate_hi95, "%.6g") + "," +
+         std::to_string(s.wrong_id_frames) + "," + format_cell(s.black_square_px_median, "%.4f") + "," +
+         st(s.orientation_deg) + "," + st(s.distance_m) + "," + st(s.distance_percent) + "," + st(s.corner_rms_px) +
+         "," + format_cell(s.ms_median, "%.4f") + "\n";
   }
   return o;
 }
@@ -751,7 +743,8 @@ std::string sidecar_json(const SweepResult& r) {
        ", \"position_radius_px\": " + json_number(position_radius_px(s.experiment)) + ", \"phi_deg\": ";
   if (s.experiment == Experiment::kAngle) j += "\"the step\"";
   else if (s.experiment == Experiment::kDistance) j += "0";
-  else j += "\"uniform in [0, " + num(kConditionsMaxPhi) + "]\"";
+  else
+    j += "\"uniform in [0, " + format_cell(kConditionsMaxPhi, "%.10g") + "]\"";
   j += ",\n    \"detectors\": [";
   for (std::size_t i = 0; i < s.detectors.size(); ++i) j += (i ? ", " : "") + json_string(s.detectors[i]);
   j += "],\n    \"random\": " +
@@ -799,4 +792,4 @@ std::string sidecar_json(const SweepResult& r) {
   return j;
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -33,7 +33,7 @@ namespace cv {
 class Mat;
 }
 
-namespace tagbench {
+namespace tagbench::bench {
 
 enum class Experiment { kAngle, kDistance, kConditions };
 const char* experiment_name(Experiment e);  // "angle", "distance", "conditions"
@@ -162,14 +162,12 @@ struct SummaryRow {
   double step = 0;
   std::string detector;
   int frames = 0, detected = 0, wrong_id_frames = 0;
-  double detection_rate = 0, rate_lo95 = 0, rate_hi95 = 0;  // Wilson score interval, z = 1.96
+  double detection_rate = 0, rate_lo95 = 0, rate_hi95 = 0;  // Wilson score interval (bench/stats.hpp)
   double black_square_px_median = 0, ms_median = 0;
   ErrorStats orientation_deg, distance_m, distance_percent, corner_rms_px;
 };
 std::vector<SummaryRow> summarize(const SweepResult& result);
 
-// The Wilson score interval of k successes in n trials (z = 1.96); {0, 1} when n = 0.
-std::pair<double, double> wilson_interval(int k, int n);
 // The q-quantile (0..1) of values, linear interpolation; NaN for none.
 double quantile(std::vector<double> values, double q);
 
@@ -181,4 +179,4 @@ std::string sidecar_json(const SweepResult& result);
 // "fig9_angle", "fig10_distance", "conditions": the files' stem.
 const char* result_stem(Experiment e);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "realistic/realistic_run.hpp"
-#include "util/json.hpp"
+#include "tools/json.hpp"
 
 namespace tagbench::bench {
 

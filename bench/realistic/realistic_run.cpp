@@ -12,7 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "codes/families.hpp"
-#include "false_positives/stats.hpp"
+#include "stats.hpp"
 #include "raytrace/comparators.hpp"
 #include "raytrace/sweeps.hpp"
 

@@ -12,7 +12,7 @@
 #include "codes/tag_layout.hpp"
 #include "raytrace/render.hpp"
 #include "realistic/realistic_parts.hpp"
-#include "util/json.hpp"
+#include "tools/json.hpp"
 
 namespace tagbench::bench {
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <iomanip>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -15,6 +14,7 @@
 #include "raytrace/comparators.hpp"
 #include "realistic/realistic_set.hpp"
 #include "scenes.hpp"
+#include "tools/format.hpp"
 
 namespace tagbench::bench {
 namespace fs = std::filesystem;
@@ -45,19 +45,7 @@ double t975(std::size_t df) {
   return df <= 30 ? kTable[df - 1] : 1.959963984540054;
 }
 
-std::string num(double v) {
-  if (!std::isfinite(v)) return "";
-  std::ostringstream s;
-  s << std::setprecision(6) << v;
-  return s.str();
-}
-
-std::string quoted(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (const char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
+std::string num(double v) { return format_cell(v, "%.6g"); }
 
 }  // namespace
 
@@ -242,8 +230,8 @@ std::string speed_rows_csv(const std::vector<SpeedRow>& rows, const std::string&
   std::ostringstream s;
   s << "set,index,image,width,height,detector,readable,ms,found,settings\n";
   for (const SpeedRow& r : rows)
-    s << r.set << ',' << r.index << ',' << quoted(r.image) << ',' << r.width << ',' << r.height << ',' << r.detector << ','
-      << (r.readable ? 1 : 0) << ',' << (r.readable ? num(r.ms) : "") << ',' << r.found << ',' << quoted(settings)
+    s << r.set << ',' << r.index << ',' << csv_field(r.image) << ',' << r.width << ',' << r.height << ',' << r.detector << ','
+      << (r.readable ? 1 : 0) << ',' << (r.readable ? num(r.ms) : "") << ',' << r.found << ',' << csv_field(settings)
       << '\n';
   return s.str();
 }
@@ -263,7 +251,7 @@ std::string speed_summary_csv(const std::vector<SpeedSummary>& summary, const st
         << num(q->median) << ',' << num(q->share_faster) << ',';
     else
       s << ",,,,,,";
-    s << quoted(settings) << '\n';
+    s << csv_field(settings) << '\n';
   }
   return s.str();
 }

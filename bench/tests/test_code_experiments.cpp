@@ -9,6 +9,7 @@
 #include "generator_speed.hpp"
 
 using namespace tagbench;
+using namespace tagbench::bench;
 
 TEST(CodeExperiments, HammingBallVolumes) {
   EXPECT_EQ(hamming_ball_volume(36, 0), 1);
@@ -86,7 +87,7 @@ TEST(CodeExperiments, CodeTableHasThePapersRowsWithMeasuredDistances) {
 // The generator runs recorded in the shipped family files: every seeded family's total and run lines
 // are read back (the full candidate space, its wall time, threads, scan and CPU).
 TEST(GeneratorSpeed, RecordedRunsOfEveryShippedGeneratedFamily) {
-  const auto rows = tagbench::recorded_generator_runs();
+  const auto rows = tagbench::bench::recorded_generator_runs();
   std::set<std::string> names;
   for (const auto& r : rows) {
     names.insert(r.family);

@@ -21,7 +21,7 @@
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
 #include "detect/tests/synthetic_tag.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 #include "kill_run.hpp"
 #include "scratch_dir.hpp"

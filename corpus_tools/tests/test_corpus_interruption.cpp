@@ -18,7 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "candidates.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 #include "kill_run.hpp"
 #include "run_tagbench.hpp"

@@ -1,15 +1,29 @@
 #include "codes/family_io.hpp"
 
+#include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
-#include "util/atomic_file.hpp"
-
 namespace tagbench {
 namespace {
+
+// A family or checkpoint file's text. The library reads its own files (the tools' helpers are not
+// part of it); errors name the path as the tools' read_file does ("PATH: cannot open: REASON").
+std::string file_text(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error(path.string() + ": is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open: " + std::strerror(errno));
+  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw std::runtime_error(path.string() + ": read error");
+  return text;
+}
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
@@ -131,7 +145,7 @@ TagFamily parse_family(const std::string& text, const std::string& source) {
 }
 
 TagFamily read_family_file(const std::filesystem::path& path) {
-  return parse_family(read_file(path), path.string());
+  return parse_family(file_text(path), path.string());
 }
 
 std::string format_family(const TagFamily& family, const std::vector<std::string>& comments) {
@@ -183,7 +197,7 @@ std::string format_checkpoint(const LexicodeParams& p, const LexicodeState& s) {
 
 Checkpoint read_checkpoint(const std::filesystem::path& path) {
   const std::string source = path.string();
-  const HeaderFile f = parse_header_file(read_file(path), source,
+  const HeaderFile f = parse_header_file(file_text(path), source,
                                          {"status", "bits", "hamming", "complexity", "seed", "order", "generator",
                                           "next_index", "elapsed_seconds", "count"});
   if (!f.keys.count("status") || f.keys.at("status") != "partial")

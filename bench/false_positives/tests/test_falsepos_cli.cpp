@@ -61,11 +61,11 @@ const char* kSha = "000000000000000000000000000000000000000000000000000000000000
 void make_corpus(const fs::path& dir) {
   fs::create_directories(dir / "stills" / "g1");
   fs::create_directories(dir / "video" / "clip");
-  cv::imwrite((dir / "stills/g1/tags.png").string(), tagbench::make_scene(640, 480, "36h11", 3, 21).image);
+  cv::imwrite((dir / "stills/g1/tags.png").string(), tagbench::bench::make_scene(640, 480, "36h11", 3, 21).image);
   cv::Mat noise(300, 400, CV_8UC1);
   cv::randu(noise, 0, 256);
   cv::imwrite((dir / "stills/g1/noise.png").string(), noise);
-  cv::imwrite((dir / "video/clip/c_f0.png").string(), tagbench::make_scene(480, 360, "36h11", 2, 22).image);
+  cv::imwrite((dir / "video/clip/c_f0.png").string(), tagbench::bench::make_scene(480, 360, "36h11", 2, 22).image);
   cv::Mat grad(240, 320, CV_8UC1);
   for (int y = 0; y < grad.rows; ++y)
     for (int x = 0; x < grad.cols; ++x) grad.at<uchar>(y, x) = static_cast<uchar>((x + y) / 3);

@@ -12,6 +12,7 @@
 #include "fp_codes.hpp"
 
 using namespace tagbench;
+using namespace tagbench::bench;
 using namespace tagbench::corpus;
 
 namespace {

@@ -18,6 +18,7 @@
 
 namespace fs = std::filesystem;
 using namespace tagbench;
+using namespace tagbench::bench;
 
 namespace {
 

@@ -12,6 +12,7 @@
 #include "margin_tradeoff.hpp"
 
 using namespace tagbench;
+using namespace tagbench::bench;
 
 namespace {
 

@@ -50,7 +50,7 @@ std::string without_ms(const std::string& csv) {
 }
 
 std::string common(const fs::path& out) {
-  return "--processes 1 --cache " + tagbench::test::shared_cache().string() + " --out " + out.string();
+  return "--processes 1 --cache " + tagbench::bench::test::shared_cache().string() + " --out " + out.string();
 }
 
 }  // namespace
@@ -110,7 +110,7 @@ TEST(CliRaytrace, MissingPovrayIsOneLineNamingThePackage) {
 }
 
 TEST(CliRaytrace, SmallRunWritesRowsSummaryAndSidecarAndARerunRendersNothing) {
-  if (!tagbench::test::have_povray()) GTEST_SKIP() << "povray is not installed";
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray is not installed";
   const fs::path a = scratch() / "run-a", b = scratch() / "run-b";
   fs::remove_all(a);
   fs::remove_all(b);
@@ -152,7 +152,7 @@ TEST(CliRaytrace, SmallRunWritesRowsSummaryAndSidecarAndARerunRendersNothing) {
 // reported on stderr and in the sidecar, the other frame's rows are written, and a rerun with the real
 // POV-Ray renders only the lost frame.
 TEST(CliRaytrace, AFrameThatFailsToRenderIsReportedAndTheRunGoesOn) {
-  const auto povray = tagbench::find_povray();
+  const auto povray = tagbench::bench::find_povray();
   if (!povray) GTEST_SKIP() << "povray is not installed";
   const fs::path dir = scratch() / "failing", cache = dir / "cache", out = dir / "out", fake = dir / "povray-once";
   fs::remove_all(dir);

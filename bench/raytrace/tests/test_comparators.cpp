@@ -18,6 +18,7 @@
 #include "test_frames.hpp"
 
 using namespace tagbench;
+using namespace tagbench::bench;
 
 namespace {
 

@@ -11,7 +11,7 @@
 
 #include "raytrace/render.hpp"
 
-namespace tagbench::test {
+namespace tagbench::bench::test {
 
 // 36h11 ids 0, 137 and 586; tilted about several axes, turned in the plane, off the image centre.
 inline std::vector<FramePose> plain_frames() {
@@ -45,4 +45,4 @@ inline RenderOptions gentle_options(const std::filesystem::path& cache) {
 
 inline bool have_povray() { return find_povray().has_value(); }
 
-}  // namespace tagbench::test
+}  // namespace tagbench::bench::test

@@ -19,7 +19,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "raytrace/render.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 #include "kill_run.hpp"
 #include "run_tagbench.hpp"
@@ -87,7 +87,7 @@ bool same_pixels(const fs::path& a, const fs::path& b) {
 }
 
 #define REQUIRE_POVRAY() \
-  if (!tagbench::find_povray()) GTEST_SKIP() << "povray is not installed"
+  if (!tagbench::bench::find_povray()) GTEST_SKIP() << "povray is not installed"
 
 }  // namespace
 

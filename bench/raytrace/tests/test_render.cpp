@@ -22,11 +22,12 @@
 
 namespace fs = std::filesystem;
 using namespace tagbench;
-using tagbench::test::gentle_options;
-using tagbench::test::have_povray;
-using tagbench::test::plain_frames;
-using tagbench::test::scratch_dir;
-using tagbench::test::shared_cache;
+using namespace tagbench::bench;
+using tagbench::bench::test::gentle_options;
+using tagbench::bench::test::have_povray;
+using tagbench::bench::test::plain_frames;
+using tagbench::bench::test::scratch_dir;
+using tagbench::bench::test::shared_cache;
 
 namespace {
 

@@ -20,6 +20,7 @@
 #include "test_frames.hpp"
 
 using namespace tagbench;
+using namespace tagbench::bench;
 
 namespace {
 
@@ -318,16 +319,7 @@ TEST(SweepEffects, NoiseBlurGradientAndDistortionDoWhatTheySay) {
   EXPECT_EQ(cv::norm(apply_effect(dot, f), dot, cv::NORM_INF), 0) << "zero strength: the frame itself";
 }
 
-TEST(SweepStats, WilsonIntervalAndQuantiles) {
-  auto [lo, hi] = wilson_interval(0, 10);
-  EXPECT_NEAR(lo, 0, 1e-12);
-  EXPECT_NEAR(hi, 0.2775, 1e-4);
-  std::tie(lo, hi) = wilson_interval(10, 10);
-  EXPECT_NEAR(lo, 0.7225, 1e-4);
-  EXPECT_NEAR(hi, 1, 1e-12);
-  std::tie(lo, hi) = wilson_interval(25, 50);
-  EXPECT_NEAR(lo, 0.3664, 1e-4);
-  EXPECT_NEAR(hi, 0.6336, 1e-4);
+TEST(SweepStats, Quantiles) {
   EXPECT_EQ(quantile({4, 1, 3, 2}, 0.5), 2.5);
   EXPECT_NEAR(quantile({4, 1, 3, 2}, 0.1), 1.3, 1e-12);
   EXPECT_NEAR(quantile({4, 1, 3, 2, NAN}, 0.9), 3.7, 1e-12);

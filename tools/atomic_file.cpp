@@ -1,4 +1,4 @@
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "tools/hash.hpp"
+
 namespace tagbench {
 
 namespace {
@@ -22,13 +24,8 @@ const std::string& host_hash() {
   static const std::string h = [] {
     char name[256] = {};
     if (::gethostname(name, sizeof name - 1) != 0) name[0] = '\0';
-    std::uint32_t v = 0x811c9dc5u;
-    for (const char* c = name; *c; ++c) {
-      v ^= static_cast<unsigned char>(*c);
-      v *= 0x01000193u;
-    }
     char buf[9];
-    std::snprintf(buf, sizeof buf, "%08x", v);
+    std::snprintf(buf, sizeof buf, "%08x", fnv1a32(name));
     return std::string(buf);
   }();
   return h;

@@ -1,4 +1,4 @@
-#include "util/progress.hpp"
+#include "tools/progress.hpp"
 
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-#include "util/sysinfo.hpp"
+#include "tools/sysinfo.hpp"
 
 #include <algorithm>
 #include <fstream>

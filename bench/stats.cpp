@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-namespace tagbench {
+namespace tagbench::bench {
 
 Interval wilson_interval(std::uint64_t k, std::uint64_t n, double z) {
   if (n == 0) return {0, 1};
@@ -64,4 +64,4 @@ Interval poisson_interval(std::uint64_t count, double exposure) {
   return {lo / exposure, hi / exposure};
 }
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

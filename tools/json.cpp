@@ -1,4 +1,4 @@
-#include "util/json.hpp"
+#include "tools/json.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -7,6 +7,7 @@
 #include "stats.hpp"
 
 using namespace tagbench;
+using namespace tagbench::bench;
 
 TEST(Wilson, MatchesKnownIntervals) {
   // 0 of 10: the upper bound is z^2 / (n + z^2).

@@ -5,7 +5,7 @@
 #include <limits>
 #include <string>
 
-#include "util/json.hpp"
+#include "tools/json.hpp"
 
 using tagbench::json_number;
 using tagbench::json_numbers;

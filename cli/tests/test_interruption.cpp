@@ -11,7 +11,7 @@
 
 #include "codes/families.hpp"
 #include "codes/family_io.hpp"
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 #include "kill_run.hpp"
 #include "run_tagbench.hpp"

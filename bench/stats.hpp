@@ -1,11 +1,11 @@
 #pragma once
-// 95 % confidence intervals for the false-positive rates (issue 5): a proportion (accepted quads
-// out of candidate quads, images with a false detection out of images) gets Wilson's score
-// interval; a count of events over an exposure (false detections per image or per megapixel, where
+// 95 % confidence intervals for the experiments' rates: a proportion (accepted quads out of
+// candidate quads, images with a false detection out of images, frames detected) gets Wilson's
+// score interval; a count of events over an exposure (false detections per image or per megapixel, where
 // an image can hold several) gets the exact Poisson (Garwood) interval.
 #include <cstdint>
 
-namespace tagbench {
+namespace tagbench::bench {
 
 struct Interval {
   double lo = 0, hi = 0;
@@ -26,4 +26,4 @@ double regularized_gamma_p(double a, double x);
 // x such that P(a, x) = p, for 0 < p < 1 (the gamma(a, 1) distribution's quantile).
 double gamma_quantile(double a, double p);
 
-}  // namespace tagbench
+}  // namespace tagbench::bench

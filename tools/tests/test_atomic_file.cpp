@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "util/atomic_file.hpp"
+#include "tools/atomic_file.hpp"
 
 using tagbench::owner_is_gone;
 using tagbench::owner_prefix_is_gone;

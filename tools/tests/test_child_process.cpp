@@ -1,0 +1,81 @@
+// Running a child program: its exit code or signal, its output in the log, its folder, and the
+// codes for what could not be run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "scratch_dir.hpp"
+#include "tools/child_process.hpp"
+
+namespace fs = std::filesystem;
+using tagbench::ChildStatus;
+using tagbench::run_child;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class ChildProcess : public ::testing::Test {
+ protected:
+  tagbench::testing::ScratchDir dir_{"child_process"};
+};
+
+}  // namespace
+
+TEST_F(ChildProcess, ExitCodeAndOutputInTheLog) {
+  const fs::path log = dir_.path() / "out.log";
+  const ChildStatus s = run_child({"sh", "-c", "echo out; echo err >&2; exit 3"}, dir_.path(), log);
+  EXPECT_EQ(s.exit_code, 3);
+  EXPECT_EQ(s.signal, 0);
+  EXPECT_EQ(s.code(), 3);
+  EXPECT_EQ(slurp(log), "out\nerr\n");
+}
+
+TEST_F(ChildProcess, RunsInTheGivenFolderWithNoInput) {
+  fs::create_directories(dir_.path() / "sub");
+  const fs::path log = dir_.path() / "pwd.log";
+  const ChildStatus s = run_child({"sh", "-c", "pwd; cat; echo done"}, dir_.path() / "sub", log);
+  EXPECT_EQ(s.code(), 0);
+  EXPECT_EQ(slurp(log), fs::canonical(dir_.path() / "sub").string() + "\ndone\n");
+}
+
+TEST_F(ChildProcess, ARelativeLogIsTakenFromOurFolderNotTheChilds) {
+  fs::create_directories(dir_.path() / "work");
+  const fs::path here = fs::current_path();
+  fs::current_path(dir_.path());
+  const ChildStatus s = run_child({"sh", "-c", "echo hi"}, "work", "rel.log");
+  fs::current_path(here);
+  EXPECT_EQ(s.code(), 0);
+  EXPECT_EQ(slurp(dir_.path() / "rel.log"), "hi\n");
+  EXPECT_FALSE(fs::exists(dir_.path() / "work" / "rel.log"));
+}
+
+TEST_F(ChildProcess, ASignalIsReportedAsSuch) {
+  const ChildStatus s = run_child({"sh", "-c", "kill -TERM $$"}, dir_.path(), dir_.path() / "sig.log");
+  EXPECT_EQ(s.signal, 15);
+  EXPECT_EQ(s.code(), 128 + 15);
+}
+
+TEST_F(ChildProcess, WhatCannotRunGets127AndAMissingFolder126) {
+  EXPECT_EQ(run_child({"/nonexistent/program"}, dir_.path(), dir_.path() / "a.log").code(), 127);
+  EXPECT_EQ(run_child({"no-such-program-tagbench"}, dir_.path(), dir_.path() / "b.log").code(), 127);
+  EXPECT_EQ(run_child({"sh", "-c", "true"}, dir_.path() / "missing", dir_.path() / "c.log").code(), 126);
+  EXPECT_THROW(run_child({}, dir_.path(), dir_.path() / "d.log"), std::invalid_argument);
+}
+
+TEST_F(ChildProcess, NiceLowersThePriority) {
+  // `nice` without arguments prints the niceness it runs at.
+  ASSERT_EQ(run_child({"nice"}, dir_.path(), dir_.path() / "base.log").code(), 0);
+  ASSERT_EQ(run_child({"nice"}, dir_.path(), dir_.path() / "nice.log", 5).code(), 0);
+  const int base = std::stoi(slurp(dir_.path() / "base.log"));
+  EXPECT_EQ(std::stoi(slurp(dir_.path() / "nice.log")), std::min(base + 5, 19));
+}
