@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
 #include "scenes.hpp"
 
 namespace {
@@ -40,7 +41,7 @@ void BM_Ours(benchmark::State& state) {
   std::size_t found = 0, segments = 0, quads = 0;
   for (auto _ : state) {
     StageTimings t;
-    const auto d = det.detect(img, ws, nullptr, &t);
+    const auto d = detect(det, img, ws, nullptr, &t);
     found = d.size();
     segments = t.segment_count;
     quads = t.quad_count;

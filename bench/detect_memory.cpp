@@ -32,6 +32,7 @@
 #include <opencv2/core.hpp>
 
 #include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
 #include "scenes.hpp"
 #include "tools/atomic_file.hpp"
 #include "tools/format.hpp"
@@ -85,19 +86,19 @@ struct Measurement {
 // The child's work; its result travels back as one line of text.
 Measurement measure(const cv::Mat& image, const DetectorOptions& opt) {
   const Detector det(opt);
-  det.detect(cv::Mat(64, 64, CV_8UC1, cv::Scalar(128)));  // warm-up: code and tables become resident
+  detect(det, cv::Mat(64, 64, CV_8UC1, cv::Scalar(128)));  // warm-up: code and tables become resident
   malloc_trim(0);  // return what the warm-up freed, so it is not reused unseen
   Measurement m;
   DetectorWorkspace ws;
   long long base = reset_peak();
   const auto t0 = std::chrono::steady_clock::now();
-  m.detections = det.detect(image, ws).size();
+  m.detections = detect(det, image, ws).size();
   m.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   m.first_peak = peak_above(base);
   m.workspace = static_cast<long long>(ws.capacity_bytes());
   malloc_trim(0);
   base = reset_peak();
-  det.detect(image, ws);
+  detect(det, image, ws);
   m.warm_peak = peak_above(base);
   return m;
 }

@@ -93,6 +93,7 @@
 #include "cli/detect_pictures.hpp"
 #include "cli/image_file.hpp"
 #include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
 #include "detect/homography.hpp"
 #include "detect/image.hpp"
 #include "tools/atomic_file.hpp"
@@ -432,7 +433,7 @@ class Processor {
       const bool debug = s_.debug_dir.has_value();
       DetectorTrace trace;
       const auto t0 = std::chrono::steady_clock::now();
-      o.detections = det_.detect(img, ws, debug ? &trace : nullptr);
+      o.detections = detect(det_, img, ws, debug ? &trace : nullptr);
       o.detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
       // Pictures: everything encoded first, then written (each atomically); on a failure the

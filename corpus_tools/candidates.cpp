@@ -19,6 +19,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "detect/detector_opencv.hpp"
 #include "detect/find_quads_in_image.hpp"
 #include "detect/homography.hpp"
 #include "detect/payload_decode.hpp"

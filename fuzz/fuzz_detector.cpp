@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
 #include "fuzz_util.hpp"
 
 namespace {
@@ -158,13 +159,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     tagbench::DetectorTrace trace;
     if (o2 & 16) {
       tagbench::DetectorWorkspace ws;
-      found = det->detect(img, ws, (o2 & 32) ? &trace : nullptr);
-      const auto again = det->detect(img, ws);
+      found = detect(*det, img, ws, (o2 & 32) ? &trace : nullptr);
+      const auto again = detect(*det, img, ws);
       FUZZ_CHECK(same(found, again), "a reused workspace changed the detections");
-      const auto fresh = det->detect(img);
+      const auto fresh = detect(*det, img);
       FUZZ_CHECK(same(found, fresh), "a workspace's detections differ from a fresh detection's");
     } else {
-      found = det->detect(img, (o2 & 32) ? &trace : nullptr);
+      found = detect(*det, img, (o2 & 32) ? &trace : nullptr);
     }
   } catch (const std::invalid_argument& e) {
     FUZZ_CHECK(should_throw, std::string("refused a valid image: ") + e.what());

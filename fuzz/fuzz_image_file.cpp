@@ -14,6 +14,7 @@
 
 #include "cli/image_file.hpp"
 #include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
 #include "fuzz_util.hpp"
 
 namespace {
@@ -42,7 +43,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   FUZZ_CHECK(!img.empty() && img.cols > 0 && img.rows > 0, "decode_image returned an empty image");
   if (static_cast<long>(img.total()) > kMaxDetectPixels) return 0;
   try {
-    (void)detector->detect(img);
+    (void)detect(*detector, img);
   } catch (const std::invalid_argument& e) {
     const int depth = img.depth(), ch = img.channels();
     const bool supported = (depth == CV_8U || depth == CV_16U || depth == CV_32F) && (ch == 1 || ch == 3 || ch == 4);

@@ -20,6 +20,7 @@
 
 #include "codes/families.hpp"
 #include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
 
 namespace tagbench::bench {
 
@@ -62,7 +63,7 @@ class Ours final : public Comparator {
 
   std::vector<Found> detect(const cv::Mat& gray8) override {
     std::vector<Found> out;
-    for (const Detection& d : detector_.detect(gray8, workspace_)) {
+    for (const Detection& d : tagbench::detect(detector_, gray8, workspace_)) {
       Found f;
       f.family = d.family;
       f.id = d.id;

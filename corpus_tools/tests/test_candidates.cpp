@@ -20,6 +20,7 @@
 #include "sources.hpp"
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
+#include "detect/detector_opencv.hpp"
 #include "detect/tests/synthetic_tag.hpp"
 #include "tools/atomic_file.hpp"
 

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <opencv2/core.hpp>
-
 #include "codes/families.hpp"
 #include "detect/decode_quads.hpp"
 #include "detect/estimate_poses.hpp"
@@ -73,7 +71,8 @@ void Detector::check_size(long long width, long long height) const {
                               std::to_string(opt_.max_pixels) + " pixels (DetectorOptions::max_pixels)");
 }
 
-std::vector<Detection> Detector::detect(const cv::Mat& image, DetectorTrace* trace, StageTimings* timings) const {
+std::vector<Detection> Detector::detect(const ImageU8View& image, DetectorTrace* trace,
+                                        StageTimings* timings) const {
   DetectorWorkspace ws;
   return detect(image, ws, trace, timings);
 }
@@ -83,12 +82,12 @@ std::vector<Detection> Detector::detect(const ImageF& gray, DetectorTrace* trace
   return detect(gray, ws, trace, timings);
 }
 
-std::vector<Detection> Detector::detect(const cv::Mat& image, DetectorWorkspace& ws, DetectorTrace* trace,
+std::vector<Detection> Detector::detect(const ImageU8View& image, DetectorWorkspace& ws, DetectorTrace* trace,
                                         StageTimings* timings) const {
-  if (image.empty() || image.cols < 1 || image.rows < 1) throw std::invalid_argument("empty image");
-  check_size(image.cols, image.rows);  // before the conversion allocates anything
+  if (image.width < 1 || image.height < 1 || image.data == nullptr) throw std::invalid_argument("empty image");
+  check_size(image.width, image.height);  // before the conversion allocates anything
   DetectorWorkspace::Impl& w = ws.impl();
-  to_float_image(image, w.gray, w.colour);
+  to_float_image(image, w.gray);
   return run(w.gray, ws, trace, timings);
 }
 

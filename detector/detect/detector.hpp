@@ -32,10 +32,6 @@
 #include "detect/quad_search.hpp"
 #include "detect/segmentation.hpp"
 
-namespace cv {
-class Mat;
-}
-
 namespace tagbench {
 
 struct DetectorOptions {
@@ -201,25 +197,29 @@ class Detector {
   // std::invalid_argument on a family that cannot be loaded or on a bad option.
   explicit Detector(DetectorOptions options);
 
-  // Detects tags in an 8-bit or 16-bit, gray or colour image. Const and thread-safe: any number of
-  // threads may call it at once (each with its own workspace, if any). Throws std::invalid_argument
-  // for an empty image and for one over options().max_pixels (see there).
-  // `timings`, if given, receives the frame's stage timings (also when nothing is detected).
-  std::vector<Detection> detect(const cv::Mat& image, DetectorTrace* trace = nullptr,
-                                StageTimings* timings = nullptr) const;
+  // Detects tags in a float gray image (image.hpp) or an 8-bit gray buffer (ImageU8View, converted
+  // into the workspace's float image); cv::Mat input goes through detect/detector_opencv.hpp. Const
+  // and thread-safe: any number of threads may call it at once (each with its own workspace, if
+  // any). Throws std::invalid_argument for an empty image and for one over options().max_pixels
+  // (see there). `timings`, if given, receives the frame's stage timings (also when nothing is detected).
   std::vector<Detection> detect(const ImageF& gray, DetectorTrace* trace = nullptr,
                                 StageTimings* timings = nullptr) const;
-  // The same, reusing `workspace`'s buffers (see DetectorWorkspace): the results are identical.
-  std::vector<Detection> detect(const cv::Mat& image, DetectorWorkspace& workspace, DetectorTrace* trace = nullptr,
+  std::vector<Detection> detect(const ImageU8View& gray, DetectorTrace* trace = nullptr,
                                 StageTimings* timings = nullptr) const;
+  // The same, reusing `workspace`'s buffers (see DetectorWorkspace): the results are identical.
   std::vector<Detection> detect(const ImageF& gray, DetectorWorkspace& workspace, DetectorTrace* trace = nullptr,
                                 StageTimings* timings = nullptr) const;
+  std::vector<Detection> detect(const ImageU8View& gray, DetectorWorkspace& workspace, DetectorTrace* trace = nullptr,
+                                StageTimings* timings = nullptr) const;
+
+  // Throws std::invalid_argument ("image WxH (N pixels) is over the detector's limit ...") for an
+  // image over options().max_pixels; for entry points that convert an image before detect().
+  void check_size(long long width, long long height) const;
 
   const DetectorOptions& options() const { return opt_; }
   const std::vector<TagFamily>& families() const { return families_; }
 
  private:
-  void check_size(long long width, long long height) const;  // the max_pixels limit
   std::vector<Detection> run(const ImageF& gray, DetectorWorkspace& ws, DetectorTrace* trace,
                              StageTimings* timings) const;
 

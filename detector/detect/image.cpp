@@ -3,47 +3,31 @@
 #include <stdexcept>
 #include <string>
 
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-
 namespace tagbench {
 
-ImageF to_float_image(const cv::Mat& src) {
+ImageF to_float_image(const ImageU8View& gray) {
   ImageF out;
-  cv::Mat scratch;
-  to_float_image(src, out, scratch);
+  to_float_image(gray, out);
   return out;
 }
 
-void to_float_image(const cv::Mat& src, ImageF& out, cv::Mat& scratch) {
-  if (src.empty()) throw std::invalid_argument("to_float_image: empty image");
-  double scale = 1.0;
-  switch (src.depth()) {
-    case CV_8U: scale = 1.0 / 255.0; break;
-    case CV_16U: scale = 1.0 / 65535.0; break;
-    case CV_32F: scale = 1.0; break;
-    default: throw std::invalid_argument("to_float_image: unsupported depth " + std::to_string(src.depth()));
+void to_float_image(const ImageU8View& gray, ImageF& out) {
+  if (gray.width < 1 || gray.height < 1 || gray.data == nullptr)
+    throw std::invalid_argument("to_float_image: empty image");
+  if (gray.stride < gray.width)
+    throw std::invalid_argument("to_float_image: stride " + std::to_string(gray.stride) + " is below the width " +
+                                std::to_string(gray.width));
+  out.width = gray.width;
+  out.height = gray.height;
+  out.data.resize(static_cast<std::size_t>(gray.width) * static_cast<std::size_t>(gray.height));
+  // The float nearest 1/255 times the value, rounded once: what OpenCV's convertTo(CV_32F, 1/255.)
+  // computes (it narrows the scale to float), so both entry points give the detector the same floats.
+  const float scale = static_cast<float>(1.0 / 255.0);
+  float* dst = out.data.data();
+  for (int y = 0; y < gray.height; ++y) {
+    const std::uint8_t* row = gray.data + static_cast<std::size_t>(y) * static_cast<std::size_t>(gray.stride);
+    for (int x = 0; x < gray.width; ++x) *dst++ = static_cast<float>(row[x]) * scale;
   }
-  const int channels = src.channels();
-  if (channels != 1 && channels != 3 && channels != 4)
-    throw std::invalid_argument("to_float_image: unsupported channel count " + std::to_string(channels));
-
-  out.width = src.cols;
-  out.height = src.rows;
-  out.data.resize(static_cast<std::size_t>(src.cols) * static_cast<std::size_t>(src.rows));
-  // A Mat header over out's storage: OpenCV's create() keeps a destination of the right size and
-  // type, so the result is written straight into `out` (no extra full-size copy).
-  cv::Mat dst(src.rows, src.cols, CV_32F, out.data.data());
-  // Scale first, convert colour second, so colour images are not rounded to 8 bits on the way.
-  if (channels == 1) {
-    src.convertTo(dst, CV_32F, scale);
-  } else {
-    src.convertTo(scratch, CV_MAKETYPE(CV_32F, channels), scale);
-    cv::cvtColor(scratch, dst, channels == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
-  }
-  // Would OpenCV ever reallocate instead, the pixels would be lost silently; refuse loudly.
-  if (dst.data != reinterpret_cast<uchar*>(out.data.data()))
-    throw std::logic_error("to_float_image: OpenCV did not write into the destination buffer");
 }
 
 }  // namespace tagbench

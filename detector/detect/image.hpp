@@ -6,13 +6,11 @@
 //   - x points right, y points down; storage is row-major, data[y * width + x];
 //   - pixel centres are at integer coordinates (OpenCV's convention): pixel (x, y) covers
 //     [x - 0.5, x + 0.5] x [y - 0.5, y + 0.5], so the image spans [-0.5, width - 0.5] in x.
-// cv::Mat appears only in to_float_image(), the edge where images enter the detector.
+// No OpenCV here: cv::Mat input goes through detect/detector_opencv.hpp, the one header of the
+// library that names OpenCV; a plain 8-bit buffer enters through ImageU8View below.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
-
-namespace cv {
-class Mat;
-}
 
 namespace tagbench {
 
@@ -39,13 +37,20 @@ struct ImageF {
   }
 };
 
-// Converts an 8-bit (/255), 16-bit (/65535) or 32-bit float (taken as already in [0, 1]) cv::Mat
-// with 1 (gray), 3 (BGR) or 4 (BGRA) channels to a gray ImageF. Colour is reduced with OpenCV's
-// BGR->gray weights (0.299 R + 0.587 G + 0.114 B) after scaling to float, so no 8-bit rounding.
-// Throws std::invalid_argument for any other depth or channel count, and for an empty Mat.
-ImageF to_float_image(const cv::Mat& gray_or_color);
-// The same into a caller-owned image whose storage is reused (the detector's workspace); `scratch`
-// holds the scaled colour image for 3- and 4-channel input and keeps its storage too.
-void to_float_image(const cv::Mat& gray_or_color, ImageF& out, cv::Mat& scratch);
+// A caller-owned 8-bit gray image, not copied: pixel (x, y) is data[y * stride + x] (stride in
+// bytes, >= width), 0 = black, 255 = white. The entry point for callers without OpenCV.
+struct ImageU8View {
+  int width = 0;
+  int height = 0;
+  int stride = 0;
+  const std::uint8_t* data = nullptr;
+};
+
+// Converts an 8-bit gray view to float (value / 255, the same floats as the cv::Mat conversion of
+// an 8-bit gray Mat, detector_opencv.hpp). Throws std::invalid_argument for an empty view (width or
+// height < 1, or no data) or a stride below the width.
+ImageF to_float_image(const ImageU8View& gray);
+// The same into a caller-owned image whose storage is reused (the detector's workspace).
+void to_float_image(const ImageU8View& gray, ImageF& out);
 
 }  // namespace tagbench

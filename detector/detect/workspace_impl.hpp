@@ -12,7 +12,7 @@
 namespace tagbench {
 
 struct DetectorWorkspace::Impl {
-  ImageF gray;             // the float image (cv::Mat input only; ImageF input is read in place)
+  ImageF gray;             // the float image (cv::Mat and ImageU8View input; ImageF input is read in place)
   cv::Mat colour;          // scaled colour image before the gray conversion
   ImageF blur_tmp;         // horizontal pass of the blurs
   ImageF seg_in, dec_in;   // segmentation input; optional separately blurred decoding image

@@ -17,6 +17,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
 #include "raytrace/render.hpp"
 #include "test_frames.hpp"
 
@@ -240,7 +241,7 @@ TEST(RaytraceRender, OurDetectorFindsThePlainFramesAtTheGroundTruth) {
     const cv::Mat img = read_frame_gray(r.frames[i].png);
     ASSERT_EQ(img.cols, 400);
     ASSERT_EQ(img.rows, 400);
-    const auto dets = detector.detect(img);
+    const auto dets = detect(detector, img);
     ASSERT_EQ(dets.size(), 1u) << "frame " << i;
     const Detection& d = dets[0];
     EXPECT_EQ(d.id, frames[i].id);
@@ -278,7 +279,7 @@ TEST(RaytraceRender, RealisticSceneShowsMoreThanTheTagAndTheTagIsFound) {
   DetectorOptions opt;
   opt.camera = render_camera();
   opt.tag_size = f.tag_size;
-  const auto dets = Detector(opt).detect(img);
+  const auto dets = detect(Detector(opt), img);
   ASSERT_EQ(dets.size(), 1u);
   EXPECT_EQ(dets[0].id, 42);
   const GroundTruth g = ground_truth(f);
@@ -373,7 +374,7 @@ TEST(RaytraceRender, AFrameThatFailsIsReportedAndTheOthersGoOn) {
   // Each file holds its own frame: the last one's tag is the smallest (the farthest).
   const cv::Mat img = read_frame_gray(r.frames.back().png);
   DetectorOptions opt;
-  const auto dets = Detector(opt).detect(img);
+  const auto dets = detect(Detector(opt), img);
   ASSERT_EQ(dets.size(), 1u);
   EXPECT_LT(max_corner_error(dets[0].corners, ground_truth(last).corners), 0.3);
 }

@@ -15,6 +15,7 @@
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
 #include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
 #include "synthetic_tag.hpp"
 
 using namespace tagbench;
@@ -242,12 +243,12 @@ TEST(Detector, BadInputAndOptions) {
     EXPECT_THROW(Detector{bad}, std::invalid_argument) << m;
   }
   const Detector det(opts({"16h5"}));
-  EXPECT_THROW(det.detect(cv::Mat()), std::invalid_argument);
-  EXPECT_TRUE(det.detect(cv::Mat(1, 1, CV_8UC1, cv::Scalar(0))).empty());
+  EXPECT_THROW(detect(det, cv::Mat()), std::invalid_argument);
+  EXPECT_TRUE(detect(det, cv::Mat(1, 1, CV_8UC1, cv::Scalar(0))).empty());
   DetectorOptions small = opts({"16h5"});
   small.max_pixels = 1000;
-  EXPECT_THROW(Detector(small).detect(cv::Mat(100, 100, CV_8UC1, cv::Scalar(0))), std::invalid_argument);
-  EXPECT_TRUE(det.detect(cv::Mat(40, 30, CV_16UC3, cv::Scalar(1000, 2000, 3000))).empty());
+  EXPECT_THROW(detect(Detector(small), cv::Mat(100, 100, CV_8UC1, cv::Scalar(0))), std::invalid_argument);
+  EXPECT_TRUE(detect(det, cv::Mat(40, 30, CV_16UC3, cv::Scalar(1000, 2000, 3000))).empty());
 }
 
 namespace {
@@ -302,7 +303,7 @@ TEST(DetectorWorkspace, SecondFrameOfOneSizeReallocatesNothing) {
       g_allocated_bytes = 0;
       g_largest_allocation = 0;
       g_count_allocations = true;
-      auto d = det.detect(frame, ws);
+      auto d = detect(det, frame, ws);
       g_count_allocations = false;
       total = g_allocated_bytes;
       largest = g_largest_allocation;
@@ -353,15 +354,43 @@ TEST(DetectorWorkspace, ReusedAcrossSizesAndInputsGivesTheSameDetections) {
     const Detector det(o);
     DetectorWorkspace ws;
     for (std::size_t i = 0; i < frames.size(); ++i) {
-      const auto fresh = det.detect(frames[i]);
+      const auto fresh = detect(det, frames[i]);
       EXPECT_EQ(fresh.size(), 1u) << "frame " << i;
-      expect_same(det.detect(frames[i], ws), fresh, "frame " + std::to_string(i) + " half " + std::to_string(half));
+      expect_same(detect(det, frames[i], ws), fresh, "frame " + std::to_string(i) + " half " + std::to_string(half));
       // The ImageF entry point shares the workspace with the cv::Mat one.
       expect_same(det.detect(to_float_image(frames[i]), ws), fresh, "ImageF frame " + std::to_string(i));
     }
     DetectorWorkspace moved = std::move(ws);
-    expect_same(det.detect(frames[2], moved), det.detect(frames[2]), "moved-to");
-    expect_same(det.detect(frames[2], ws), det.detect(frames[2]), "moved-from");  // usable again
+    expect_same(detect(det, frames[2], moved), detect(det, frames[2]), "moved-to");
+    expect_same(detect(det, frames[2], ws), detect(det, frames[2]), "moved-from");  // usable again
+  }
+}
+
+// The 8-bit buffer entry point (ImageU8View, no OpenCV) gives exactly the cv::Mat path's
+// detections, including the homography, pose-free fields and decision margins, through a shared
+// workspace or without one, also for rows padded past the width.
+TEST(Detector, EightBitViewGivesTheMatPathsDetections) {
+  const std::vector<cv::Mat> frames = {tag_frame(320, 240, 5, 150, 120, 0.2), tag_frame(321, 241, 8, 160, 120, 2.0),
+                                       tag_frame(640, 480, 3, 250, 200, 0.3)};
+  for (const bool half : {false, true}) {
+    DetectorOptions o = opts({"36h11"});
+    o.half_resolution = half;
+    const Detector det(o);
+    DetectorWorkspace ws;
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      const cv::Mat& m = frames[i];
+      const auto want = detect(det, m);
+      ASSERT_EQ(want.size(), 1u) << "frame " << i;
+      const ImageU8View view{m.cols, m.rows, static_cast<int>(m.step[0]), m.ptr<std::uint8_t>(0)};
+      const std::string what = "frame " + std::to_string(i) + " half " + std::to_string(half);
+      expect_same(det.detect(view, ws), want, what);
+      expect_same(det.detect(view), want, what + " (no workspace)");
+      EXPECT_EQ(det.detect(view, ws)[0].homography, want[0].homography) << what;
+      cv::Mat padded(m.rows, m.cols + 13, CV_8U, cv::Scalar(255));
+      m.copyTo(padded(cv::Rect(0, 0, m.cols, m.rows)));
+      expect_same(det.detect(ImageU8View{m.cols, m.rows, padded.cols, padded.ptr<std::uint8_t>(0)}, ws), want,
+                  what + " padded");
+    }
   }
 }
 
@@ -370,7 +399,7 @@ TEST(DetectorWorkspace, OneDetectorManyThreadsEachWithItsOwnWorkspace) {
                                        tag_frame(240, 200, 23, 120, 100, 2.5)};
   const Detector det(opts({"36h11"}));
   std::vector<std::vector<Detection>> reference;
-  for (const auto& f : frames) reference.push_back(det.detect(f));
+  for (const auto& f : frames) reference.push_back(detect(det, f));
   std::atomic<int> mismatches{0}, runs{0};
   std::vector<std::thread> pool;
   for (int t = 0; t < 4; ++t)
@@ -378,7 +407,7 @@ TEST(DetectorWorkspace, OneDetectorManyThreadsEachWithItsOwnWorkspace) {
       DetectorWorkspace ws;
       for (int i = 0; i < 6; ++i) {
         const std::size_t k = static_cast<std::size_t>(t + i) % frames.size();
-        const auto d = det.detect(frames[k], ws);
+        const auto d = detect(det, frames[k], ws);
         ++runs;
         if (d.size() != 1 || d[0].id != reference[k][0].id || d[0].corners != reference[k][0].corners) ++mismatches;
       }
@@ -392,11 +421,11 @@ TEST(Detector, ImageSizeLimitIsEnforcedWithAClearError) {
   DetectorOptions o = opts({"16h5"});
   o.max_pixels = 10'000;
   const Detector det(o);
-  EXPECT_NO_THROW(det.detect(cv::Mat(100, 100, CV_8UC1, cv::Scalar(128))));  // exactly at the limit
+  EXPECT_NO_THROW(detect(det, cv::Mat(100, 100, CV_8UC1, cv::Scalar(128))));  // exactly at the limit
   EXPECT_NO_THROW(det.detect(ImageF(10'000, 1, 0.5f)));
   for (const auto& [w, h] : std::vector<std::pair<int, int>>{{101, 100}, {10'001, 1}, {1, 10'001}}) {
     try {
-      det.detect(cv::Mat(h, w, CV_8UC1, cv::Scalar(0)));
+      detect(det, cv::Mat(h, w, CV_8UC1, cv::Scalar(0)));
       ADD_FAILURE() << w << "x" << h << " was accepted";
     } catch (const std::invalid_argument& e) {
       const std::string msg = e.what();
@@ -409,7 +438,7 @@ TEST(Detector, ImageSizeLimitIsEnforcedWithAClearError) {
   }
   // The default limit, 100 M pixels: 10001 x 10000 is refused (the Mat is never written, so cheap).
   EXPECT_EQ(DetectorOptions().max_pixels, 100'000'000);
-  EXPECT_THROW(Detector(opts({"16h5"})).detect(cv::Mat(10'000, 10'001, CV_8UC1)), std::invalid_argument);
+  EXPECT_THROW(detect(Detector(opts({"16h5"})), cv::Mat(10'000, 10'001, CV_8UC1)), std::invalid_argument);
   // Limits no option may set: none at all, and past the 32-bit pixel indices.
   for (const long long bad : {0LL, -5LL, kMaxPixelsCeiling + 1}) {
     o.max_pixels = bad;

@@ -1,9 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "detect/detector_opencv.hpp"
 #include "detect/image.hpp"
 
 using namespace tagbench;
@@ -87,4 +91,30 @@ TEST(Image, UnsupportedInputsThrow) {
   EXPECT_THROW(to_float_image(cv::Mat()), std::invalid_argument);
   EXPECT_THROW(to_float_image(cv::Mat(2, 2, CV_64FC1, cv::Scalar(0.5))), std::invalid_argument);
   EXPECT_THROW(to_float_image(cv::Mat(2, 2, CV_8UC2, cv::Scalar(1, 2))), std::invalid_argument);
+}
+
+// The 8-bit buffer entry point (ImageU8View) gives the detector the very floats the cv::Mat path
+// gives: every value, with a stride past the width, bit for bit.
+TEST(Image, EightBitViewMatchesTheMatConversionBitForBit) {
+  const int w = 256, h = 3, stride = 260;
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(stride) * h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) buf[static_cast<std::size_t>(y) * stride + x] = static_cast<std::uint8_t>((x + 97 * y) & 255);
+  const cv::Mat m(h, w, CV_8UC1, buf.data(), static_cast<std::size_t>(stride));
+  const ImageF from_mat = to_float_image(m);
+  const ImageF from_view = to_float_image(ImageU8View{w, h, stride, buf.data()});
+  ASSERT_EQ(from_view.width, w);
+  ASSERT_EQ(from_view.height, h);
+  ASSERT_EQ(from_view.data.size(), from_mat.data.size());
+  for (std::size_t i = 0; i < from_mat.data.size(); ++i)
+    ASSERT_EQ(std::memcmp(&from_view.data[i], &from_mat.data[i], sizeof(float)), 0) << "pixel " << i;
+}
+
+TEST(Image, BadEightBitViewsThrow) {
+  const std::uint8_t px[4] = {1, 2, 3, 4};
+  EXPECT_THROW(to_float_image(ImageU8View{}), std::invalid_argument);
+  EXPECT_THROW(to_float_image(ImageU8View{2, 2, 2, nullptr}), std::invalid_argument);
+  EXPECT_THROW(to_float_image(ImageU8View{2, 0, 2, px}), std::invalid_argument);
+  EXPECT_THROW(to_float_image(ImageU8View{2, 2, 1, px}), std::invalid_argument);
+  EXPECT_EQ(to_float_image(ImageU8View{2, 2, 2, px}).at(1, 1), 4.0f * static_cast<float>(1.0 / 255.0));
 }
