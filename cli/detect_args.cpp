@@ -1,0 +1,153 @@
+#include "cli/detect_args.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tools/format.hpp"
+#include "tools/sysinfo.hpp"
+
+namespace tagbench::cli::detect_cmd {
+
+namespace fs = std::filesystem;
+
+const char* const kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
+                       [--min-margin M] [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
+                       [--format json|csv] [--draw OUT] [--debug-dir DIR] [--threads T]
+
+Detects tags in every input and prints the detections on stdout, in input order.
+Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted to gray), directories
+(searched recursively, image extensions only, sorted), videos (.mp4 .avi .mkv .mov .webm .m4v .mpg
+.mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0).
+  --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
+  --max-hamming K      payload bits corrected at most, 0..16 (default 1)
+  --min-margin M       drop detections whose decision_margin is below M, 0..1 (default 0: keep all,
+                       as the paper). Beyond the paper: against false detections of small families;
+                       see results/margin_tradeoff.csv for what each M costs and saves
+  --camera fx,fy,cx,cy intrinsics in pixels (fx, fy > 0; cx, cy >= 0); needs --tag-size; adds poses
+  --distortion k1,k2,p1,p2[,k3]
+                       OpenCV lens distortion; needs --camera (corners are undistorted for the pose)
+  --tag-size M         edge of the black square in metres (> 0); needs --camera
+  --half-res           segment at half resolution (the paper's faster option)
+  --format json|csv    output format (default json)
+  --draw OUT           draw the detections like the paper's Fig. 1 (outline, printed top-left corner
+                       as a dot, id at the centre, pose axes x red, y green, z blue, tag size / 2 long;
+                       z points into the tag). One image input: OUT is the picture (.png, .jpg);
+                       otherwise OUT is a directory and each image goes to OUT/<name>.png
+                       (<name> = file name without extension, made unique with _2, _3, ...;
+                       video frames: <name>_frameN.png)
+  --debug-dir DIR      the stages of the paper's Figs. 3 and 4 as DIR/<name>_<stage>.png, stages
+                       gradient_magnitude, gradient_direction, clusters (at the segmentation's
+                       resolution: half size with --half-res), segments (notch toward the light side),
+                       quads (every candidate; dot on its first corner), samples (the detected tags'
+                       sample points: white ring white, black ring black, payload yellow)
+  --threads T          images processed in parallel (default: all cores); output order is input order
+
+Errors: an input that cannot be read (missing, unreadable, 0 bytes, corrupt) prints one line on stderr
+naming it, the other inputs are still processed, and the exit status is 1. Bad options exit with 2.
+A 1-pixel image is valid and has no detections. Files are written atomically; nothing is written for
+a failed input.
+
+JSON output (one document for the whole run):
+  {"tool": "tagbench detect",
+   "options": {"families": [names], "max_hamming": K, "min_decision_margin": M, "half_res": bool,
+               "camera": [fx,fy,cx,cy] or null, "distortion": [k1,k2,p1,p2,k3] or null,
+               "tag_size": metres or null},
+   "images": [{"input": path or "video#frameN", "frame": N (videos only), "width": W, "height": H,
+               "detect_ms": wall time,
+               "detections": [{"family", "id", "hamming", "rotation", "decision_margin",
+                               "corners": [[x,y] x4: printed TL, TR, BR, BL],
+                               "center": [x,y],
+                               "homography": [[3] x3] (tag square [-1,1]^2 -> pixels),
+                               "pose": {"R": [[3] x3], "t": [x,y,z], "reprojection_rms_px"}  (with --camera),
+                               "pose_alternative": {same}  (when the planar ambiguity has a 2nd solution),
+                               "timings_ms": {"blur","gradient","segmentation","line_fit","quads",
+                                              "decode","pose","total"} (of the frame)}]}],
+   "errors": [{"input": path, "error": message}]}
+Pixel centres are at integer coordinates; camera frame x right, y down, z forward; tag frame origin at
+the centre, x right, y down (as printed), z into the tag; X_cam = R X_tag + t (metres).
+
+CSV output: a header row, then one row per detection:
+  input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,
+  r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,min_decision_margin
+(pose columns empty without --camera).
+)";
+
+namespace {
+
+std::vector<double> parse_list(const std::string& option, const std::string& text, std::size_t min_n,
+                               std::size_t max_n, const std::string& what) {
+  std::vector<double> v;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    double x = 0;
+    const auto r = std::from_chars(item.data(), item.data() + item.size(), x);
+    if (item.empty() || r.ec != std::errc() || r.ptr != item.data() + item.size() || !std::isfinite(x))
+      throw UsageError(option + " " + text + ": '" + item + "' is not a finite number (expected " + what + ")");
+    v.push_back(x);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (v.size() < min_n || v.size() > max_n)
+    throw UsageError(option + " " + text + ": expected " + what + ", got " + std::to_string(v.size()) +
+                     (v.size() == 1 ? " number" : " numbers"));
+  return v;
+}
+
+}  // namespace
+
+Settings parse_settings(const Args& a) {
+  Settings s;
+  if (a.has("family")) s.det.families = a.all("family");
+  s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));
+  if (const auto m = a.get("min-margin")) s.det.min_decision_margin = parse_double("--min-margin", *m, 0, 1);
+  s.det.half_resolution = a.flag("half-res");
+
+  std::optional<double> tag_size;
+  if (const auto t = a.get("tag-size")) {
+    const double v = parse_double("--tag-size", *t, -1e300, 1e300);
+    if (!(v > 0)) throw UsageError("--tag-size " + *t + ": the tag size must be > 0 (metres)");
+    tag_size = v;
+  }
+  if (const auto c = a.get("camera")) {
+    const auto v = parse_list("--camera", *c, 4, 4, "fx,fy,cx,cy");
+    if (!(v[0] > 0) || !(v[1] > 0))
+      throw UsageError("--camera " + *c + ": focal lengths fx and fy must be > 0");
+    if (v[2] < 0 || v[3] < 0) throw UsageError("--camera " + *c + ": principal point cx and cy must be >= 0");
+    s.det.camera = CameraIntrinsics{v[0], v[1], v[2], v[3]};
+  }
+  if (const auto d = a.get("distortion")) {
+    const auto v = parse_list("--distortion", *d, 4, 5, "k1,k2,p1,p2[,k3]");
+    std::array<double, 5> k{0, 0, 0, 0, 0};
+    std::copy(v.begin(), v.end(), k.begin());
+    s.det.distortion = k;
+  }
+  if (s.det.camera && !tag_size) throw UsageError("--camera needs --tag-size (metres) for the pose");
+  if (tag_size && !s.det.camera) throw UsageError("--tag-size needs --camera fx,fy,cx,cy");
+  if (s.det.distortion && !s.det.camera) throw UsageError("--distortion needs --camera fx,fy,cx,cy");
+  if (tag_size) s.det.tag_size = *tag_size;
+
+  const std::string format = a.get_or("format", "json");
+  if (format != "json" && format != "csv") throw UsageError("--format " + format + ": use json or csv");
+  s.csv = format == "csv";
+  s.threads = static_cast<int>(a.get_int("threads", hardware_threads(), 1, 1024));
+  if (const auto d = a.get("debug-dir")) {
+    if (d->empty()) throw UsageError("--debug-dir: empty path");
+    s.debug_dir = fs::path(*d);
+    std::error_code ec;
+    if (fs::exists(*s.debug_dir, ec) && !fs::is_directory(*s.debug_dir, ec))
+      throw UsageError("--debug-dir " + *d + ": exists and is not a directory");
+  }
+  if (const auto d = a.get("draw")) {
+    if (d->empty()) throw UsageError("--draw: empty path");
+    s.draw = fs::path(*d);
+  }
+  return s;
+}
+
+}  // namespace tagbench::cli::detect_cmd

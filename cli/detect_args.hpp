@@ -1,0 +1,28 @@
+#pragma once
+// tagbench detect: its options (the command line into Settings) and its --help text.
+#include <filesystem>
+#include <optional>
+
+#include "cli/args.hpp"
+#include "detect/detector.hpp"
+
+namespace tagbench::cli::detect_cmd {
+
+namespace fs = std::filesystem;
+
+struct Settings {
+  DetectorOptions det;
+  bool csv = false;
+  std::optional<fs::path> draw;
+  bool draw_is_file = false;
+  std::optional<fs::path> debug_dir;
+  int threads = 1;
+};
+
+// The --help text (also the documentation of the JSON and CSV output).
+extern const char* const kHelp;
+
+// Reads the options; throws UsageError (args.hpp) on a bad one, before anything is read or written.
+Settings parse_settings(const Args& a);
+
+}  // namespace tagbench::cli::detect_cmd
