@@ -51,6 +51,8 @@ Variant parse_variant(const std::string& spec) {
     }
     if (key == "sigma") v.seg_sigma = val;
     else if (key == "up") v.upsample = val != 0;
+    else if (key == "both") v.both_scales = val != 0;
+    else if (key == "magscale") v.min_mag_scale = val;
     else if (key == "refine") v.refine_edges = val != 0;
     else if (key == "area") v.area_payload = val != 0;
     else if (key == "k") v.area.samples_per_side = static_cast<int>(val);
@@ -58,6 +60,7 @@ Variant parse_variant(const std::string& spec) {
     else if (key == "sharp") v.area.sharpening = val;
     else if (key == "h") v.max_hamming = static_cast<int>(val);
     else if (key == "range") v.edge.max_range_px = val;
+    else if (key == "gamma") v.edge.gamma = val;
     else throw std::invalid_argument("variant '" + spec + "': unknown key '" + key + "'");
   }
   return v;
@@ -72,22 +75,35 @@ std::optional<PayloadReading> read_with(const ImageF& gray, const Corners& corne
   return read_payload(gray, *H, d, p);
 }
 
-PipelineResult run_pipeline(const ImageF& gray, const TagFamily& family, const Variant& v) {
-  const ImageF seg_base = v.upsample ? upsample2(gray) : gray;
+namespace {
+
+std::vector<Quad> quads_at(const ImageF& gray, const Variant& v, bool upsample) {
+  const ImageF seg_base = upsample ? upsample2(gray) : gray;
   const ImageF seg_in = gaussian_blur(seg_base, v.seg_sigma);
-  const SegmentationOptions seg_opt;
+  SegmentationOptions seg_opt;
+  seg_opt.min_mag *= static_cast<float>(upsample ? v.min_mag_scale : 1.0);
   const Gradients g = compute_gradients(seg_in, seg_opt.min_mag);
   const Clusters clusters = segment_clusters(g, seg_opt);
   LineFitOptions lf;
-  if (v.upsample) lf.min_length *= 2;  // the same length in input pixels
+  if (upsample) lf.min_length *= 2;  // the same length in input pixels
   std::vector<Segment> segments = fit_segments(clusters, lf);
-  if (v.upsample)
+  if (upsample)
     for (auto& s : segments) {  // upsampled X -> input (X - 0.5) / 2
       s.p0 = (s.p0.array() - 0.5) / 2;
       s.p1 = (s.p1.array() - 0.5) / 2;
       s.length /= 2;
     }
-  const std::vector<Quad> quads = find_quads(segments, QuadSearchOptions{});
+  return find_quads(segments, QuadSearchOptions{});
+}
+
+}  // namespace
+
+PipelineResult run_pipeline(const ImageF& gray, const TagFamily& family, const Variant& v) {
+  std::vector<Quad> quads = quads_at(gray, v, v.upsample);
+  if (v.upsample && v.both_scales) {
+    std::vector<Quad> more = quads_at(gray, v, false);
+    quads.insert(quads.end(), more.begin(), more.end());
+  }
   const int d = family.payload_width();
   PipelineResult out;
   std::vector<PipelineDetection> found;

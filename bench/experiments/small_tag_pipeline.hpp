@@ -25,6 +25,8 @@ struct Variant {
   std::string name = "paper";
   double seg_sigma = 0.8;        // the paper's sigma
   bool upsample = false;         // segment a 2x (bilinear) upsampled image; quads mapped back
+  bool both_scales = false;      // with upsample: also segment at 1x and merge both scales' detections
+  double min_mag_scale = 1;      // multiplies SegmentationOptions::min_mag (minMag) on the segmented image
   bool refine_edges = false;     // edge_refine.hpp on the unblurred image, before the homography
   EdgeRefineOptions edge;
   bool area_payload = false;     // payload_area.hpp instead of payload_decode.hpp
@@ -32,7 +34,7 @@ struct Variant {
   int max_hamming = 1;
 };
 
-// Parses "name:key=value,key=value" (keys: sigma, up, refine, area, k, extent, sharp, h), e.g.
+// Parses "name:key=value,key=value" (keys: sigma, up, both, magscale, refine, area, k, extent, sharp, h, range), e.g.
 // "best:sigma=0.8,refine=1,area=1,sharp=0.5,h=1". Throws std::invalid_argument on a bad spec.
 Variant parse_variant(const std::string& spec);
 

@@ -85,7 +85,8 @@ std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const Ed
         const auto hi = sample_bilinear(img, p + (s + opt.derivative_half_px) * n);
         const auto lo = sample_bilinear(img, p + (s - opt.derivative_half_px) * n);
         if (!hi || !lo) continue;
-        const double g = *hi - *lo;
+        const double g = opt.gamma == 1.0 ? *hi - *lo
+                                          : std::pow(std::max(0.0f, *hi), opt.gamma) - std::pow(std::max(0.0f, *lo), opt.gamma);
         if (g <= 0) continue;
         sw += g * g;
         sws += g * g * s;

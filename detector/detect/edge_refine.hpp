@@ -39,6 +39,11 @@ struct EdgeRefineOptions {
   int min_samples = 6;                // ... at least this many
   double end_margin = 0.1;            // fraction of the side left out at each end
   double max_corner_shift_px = 3.0;   // a larger move rejects the refinement
+  // Intensities are raised to this power before the profile is differentiated: 2.2 undoes the
+  // encoding gamma of ordinary (sRGB-like) cameras, whose dark-to-light step is otherwise lopsided
+  // and its steepest point shifted toward the dark side once blurred; 1 = the image as it is (linear,
+  // e.g. ray-traced frames).
+  double gamma = 1.0;
   int iterations = 2;                 // passes; each re-centres the scan on the previous pass's lines,
                                       // so an edge near the end of the range is not biased inward
   int cells_across = 8;               // cells across the black square (d + 2; 36h11: 8): the cell size sets the range
