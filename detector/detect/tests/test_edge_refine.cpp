@@ -86,3 +86,19 @@ TEST(EdgeRefine, DegenerateQuadIsRejected) {
   EXPECT_FALSE(refine_quad_edges(img, c).has_value());
   EXPECT_FALSE(refine_quad_edges(ImageF(), synth::square_tag_corners(25, 25, 20, 0)).has_value());
 }
+
+// A camera's encoding gamma makes the blurred step lopsided: on the encoded image the steepest
+// point moves toward the dark side, so gamma 1 shrinks the quad; gamma 2.2 undoes the encoding.
+TEST(EdgeRefine, GammaEncodedEdgesAreLocatedOnLinearisedIntensities) {
+  const TagFamily& f = builtin_family("36h11");
+  const Corners truth = synth::square_tag_corners(40.2, 39.7, 40.0, 0.35);
+  ImageF img = gaussian_blur(synth::render_tag(80, 80, tag_cells(f, 6), synth::homography_for(truth), 0.5f, 8, 0.02f, 0.9f), 1.2);
+  for (auto& v : img.data) v = std::pow(v, 1.0f / 2.2f);
+  const Corners start = perturbed(truth, 0.5, 3);
+  EdgeRefineOptions lin;
+  lin.gamma = 2.2;
+  const auto a = refine_quad_edges(img, start), b = refine_quad_edges(img, start, lin);
+  ASSERT_TRUE(a && b);
+  EXPECT_LT(corner_rms(*b, truth), 0.08);
+  EXPECT_GT(corner_rms(*a, truth), 2 * corner_rms(*b, truth));
+}
