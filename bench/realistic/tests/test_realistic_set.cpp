@@ -1,0 +1,193 @@
+// The realistic set's generator: reproducible, its truth where the pixels are, its degradations as stated.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "raytrace/comparators.hpp"
+#include "realistic/realistic_set.hpp"
+
+namespace tagbench::bench {
+namespace {
+
+bool same_pixels(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() && cv::countNonZero(a != b) == 0;
+}
+
+// A camera that only quantizes (no blur, noise or JPEG loss to speak of), for isolating one degradation.
+RealisticSettings clean_camera() {
+  RealisticSettings s;
+  s.width = 320;
+  s.height = 240;
+  s.focal_px = 320;
+  s.min_tags = 2;
+  s.max_tags = 3;
+  s.blur_sigma_px = {0, 0};
+  s.motion_blur_px = {0, 0};
+  s.full_well_e = {1e7, 1e7};
+  s.read_noise_e = {0, 0};
+  s.jpeg_quality = {100, 100};
+  return s;
+}
+
+TEST(RealisticSet, SameSeedAndIndexGiveTheSameBytes) {
+  RealisticSettings s;
+  s.seed = 7;
+  const RealisticFrame a = make_realistic_frame(s, 3), b = make_realistic_frame(s, 3);
+  EXPECT_TRUE(same_pixels(a.image, b.image));
+  EXPECT_EQ(a.jpeg, b.jpeg);
+  EXPECT_EQ(frame_truth_json(s, a), frame_truth_json(s, b));
+  const RealisticFrame c = make_realistic_frame(s, 4);
+  EXPECT_FALSE(same_pixels(a.image, c.image));
+  s.seed = 8;
+  const RealisticFrame d = make_realistic_frame(s, 3);
+  EXPECT_FALSE(same_pixels(a.image, d.image));
+}
+
+TEST(RealisticSet, TruthIsInRangeDistinctAndInView) {
+  RealisticSettings s;
+  for (int i = 0; i < 6; ++i) {
+    const RealisticFrame f = make_realistic_frame(s, i);
+    ASSERT_EQ(f.image.type(), CV_8UC1);
+    ASSERT_EQ(f.image.cols, s.width);
+    ASSERT_EQ(f.image.rows, s.height);
+    EXPECT_GE(static_cast<int>(f.tags.size()), s.min_tags);
+    EXPECT_LE(static_cast<int>(f.tags.size()), s.max_tags);
+    std::set<int> ids;
+    for (const auto& t : f.tags) {
+      ids.insert(t.id);
+      EXPECT_NEAR(t.black_square_px, std::clamp(t.black_square_px, s.black_square_px.lo, s.black_square_px.hi), 0.05);
+      EXPECT_LE(t.tilt_deg, s.max_tilt_deg);
+      for (const auto& c : t.corners) {
+        EXPECT_GT(c.x(), 0);
+        EXPECT_GT(c.y(), 0);
+        EXPECT_LT(c.x(), s.width - 1);
+        EXPECT_LT(c.y(), s.height - 1);
+      }
+    }
+    EXPECT_EQ(ids.size(), f.tags.size());
+  }
+}
+
+// On ideal frames (no blur, noise or JPEG) of tags big enough for every detector, libapriltag finds the
+// tags where the truth says, to a fraction of a pixel: the renderer and the truth agree.
+TEST(RealisticSet, TruthCornersAgreeWithTheRenderedImage) {
+  RealisticSettings s;
+  s.degrade = false;
+  s.black_square_px = {28, 40};
+  s.max_tilt_deg = 45;
+  s.ink_reflectance = {0.05, 0.05};
+  s.paper_reflectance = {0.85, 0.85};
+  s.face_light = {0.9, 1.0};
+  s.shadow_probability = 0;
+  ComparatorSetup setup;
+  setup.family = s.family;
+  auto det = make_comparator("libapriltag-d1", setup);
+  int tags = 0, found = 0;
+  std::vector<double> errors;
+  for (int i = 0; i < 4; ++i) {
+    const RealisticFrame f = make_realistic_frame(s, i);
+    const auto out = det->run(f.image);
+    for (const auto& t : f.tags) {
+      ++tags;
+      for (const auto& d : out.found) {
+        if (d.id != t.id) continue;
+        double sq = 0;
+        for (std::size_t k = 0; k < 4; ++k) sq += (d.corners[k] - t.corners[k]).squaredNorm();
+        errors.push_back(std::sqrt(sq / 4));
+        ++found;
+      }
+    }
+  }
+  ASSERT_GT(tags, 10);
+  EXPECT_GE(found, tags * 9 / 10);
+  std::sort(errors.begin(), errors.end());
+  ASSERT_FALSE(errors.empty());
+  EXPECT_LT(errors[errors.size() / 2], 0.35);  // median corner RMS
+  EXPECT_LT(errors.back(), 1.0);
+}
+
+TEST(RealisticSet, DefocusSmoothsThePicture) {
+  RealisticSettings s = clean_camera();
+  const RealisticFrame sharp = make_realistic_frame(s, 0);
+  s.blur_sigma_px = {1.5, 1.5};
+  const RealisticFrame blurred = make_realistic_frame(s, 0);
+  EXPECT_DOUBLE_EQ(blurred.degradation.blur_sigma_px, 1.5);
+  const auto energy = [](const cv::Mat& m) {
+    cv::Mat gx;
+    cv::Sobel(m, gx, CV_32F, 1, 0);
+    return cv::norm(gx, cv::NORM_L2SQR);
+  };
+  EXPECT_LT(energy(blurred.image), 0.6 * energy(sharp.image));
+}
+
+TEST(RealisticSet, NoiseFollowsTheFullWell) {
+  RealisticSettings s = clean_camera();
+  const RealisticFrame clean = make_realistic_frame(s, 1);
+  s.full_well_e = {100, 100};  // shot noise: sigma = sqrt(e) electrons, 10 % at white
+  const RealisticFrame noisy = make_realistic_frame(s, 1);
+  EXPECT_DOUBLE_EQ(noisy.degradation.full_well_e, 100);
+  cv::Mat diff;
+  cv::subtract(noisy.image, clean.image, diff, cv::noArray(), CV_32F);
+  cv::Scalar mean, sd;
+  cv::meanStdDev(diff, mean, sd);
+  // At linear values v of 0.1..0.6 the shot noise is sqrt(v / 100), 3-8 % of full scale before gamma.
+  EXPECT_GT(sd[0], 5);
+  EXPECT_LT(sd[0], 40);
+}
+
+TEST(RealisticSet, JpegIsWhatTheDetectorsGet) {
+  RealisticSettings s = clean_camera();
+  s.jpeg_quality = {70, 90};
+  std::set<int> qualities;
+  for (int i = 0; i < 6; ++i) {
+    const RealisticFrame f = make_realistic_frame(s, i);
+    ASSERT_FALSE(f.jpeg.empty());
+    EXPECT_TRUE(same_pixels(f.image, cv::imdecode(f.jpeg, cv::IMREAD_GRAYSCALE)));
+    EXPECT_GE(f.degradation.jpeg_quality, 70);
+    EXPECT_LE(f.degradation.jpeg_quality, 90);
+    qualities.insert(f.degradation.jpeg_quality);
+  }
+  EXPECT_GT(qualities.size(), 1u);
+  s.jpeg_quality = {100, 100};
+  const auto q100 = make_realistic_frame(s, 0).jpeg.size();
+  s.jpeg_quality = {50, 50};
+  EXPECT_LT(make_realistic_frame(s, 0).jpeg.size(), q100 * 3 / 4);
+  s.degrade = false;
+  const RealisticFrame ideal = make_realistic_frame(s, 0);
+  EXPECT_TRUE(ideal.jpeg.empty());
+  EXPECT_EQ(ideal.degradation.jpeg_quality, 0);
+}
+
+TEST(RealisticSet, BadSettingsAreRefusedOnOneLine) {
+  const auto refused = [](const RealisticSettings& s) {
+    try {
+      make_realistic_frame(s, 0);
+    } catch (const std::exception& e) {
+      return std::string(e.what()).find('\n') == std::string::npos;
+    }
+    return false;
+  };
+  RealisticSettings s;
+  s.family = "nope";
+  EXPECT_TRUE(refused(s));
+  s = {};
+  s.black_square_px = {40, 12};
+  EXPECT_TRUE(refused(s));
+  s = {};
+  s.jpeg_quality = {0, 90};
+  EXPECT_TRUE(refused(s));
+  s = {};
+  s.max_tilt_deg = 89;
+  EXPECT_TRUE(refused(s));
+  s = {};
+  s.min_tags = 0;
+  EXPECT_TRUE(refused(s));
+  EXPECT_THROW(make_realistic_frame(RealisticSettings{}, -1), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tagbench::bench
