@@ -1,0 +1,278 @@
+// Issue 17 experiment driver: the threshold quad stage (detect/threshold_quads.hpp) against the
+// paper's gradient quads and libapriltag 3 (d1, d2) on the same frames, single thread.
+//
+//   thresh_quads realistic N [FAMILY]   detection per tag size on N realistic frames (bench/realistic)
+//   thresh_quads small N [FAMILY]       make_scene drawn at 5x, INTER_AREA down, noise, JPEG q75
+//   thresh_quads speed REPS DIR         ms per image: synthetic scenes, realistic frames, DIR's photos
+//   thresh_quads natural DIR [MAX]      candidate quads and 16h5 false detections per natural image
+// Results are printed as tables (an experiment log, not a results/ CSV). Seeds are fixed and printed.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "detect/detector.hpp"
+#include "experiments/thresh_detect.hpp"
+#include "realistic/realistic_set.hpp"
+#include "scenes.hpp"
+
+using namespace tagbench;
+using namespace tagbench::experiments;
+
+namespace {
+
+struct TruthTag {
+  int id;
+  Corners corners;
+  double px;  // sqrt of the black square's area
+};
+struct Frame {
+  cv::Mat gray;
+  std::vector<TruthTag> tags;
+};
+
+double quad_area(const Corners& c) {
+  double a = 0;
+  for (std::size_t i = 0; i < 4; ++i) a += c[i].x() * c[(i + 1) % 4].y() - c[(i + 1) % 4].x() * c[i].y();
+  return std::abs(a) / 2;
+}
+Eigen::Vector2d centre(const Corners& c) { return 0.25 * (c[0] + c[1] + c[2] + c[3]); }
+
+std::vector<std::unique_ptr<Comparator>> detectors(const std::string& family, const std::vector<std::string>& names,
+                                                   int max_hamming = 1) {
+  std::vector<std::unique_ptr<Comparator>> v;
+  ComparatorSetup setup;
+  setup.family = family;
+  for (const auto& n : names) {
+    if (n == "thresh-full" || n == "thresh-half" || n == "thresh-half-norefine" || n == "thresh-full-norefine") {
+      ThreshDetectorOptions o;
+      o.family = family;
+      o.max_hamming = max_hamming;
+      o.quads.halve = n.find("half") != std::string::npos;
+      o.quads.refine_edges = n.find("norefine") == std::string::npos;
+      o.quads.fit.min_tag_width = 6;
+      v.push_back(std::make_unique<ThreshDetector>(n, o));
+    } else {
+      v.push_back(make_comparator(n, setup));
+    }
+  }
+  return v;
+}
+
+const std::vector<double> kBins = {12, 16, 20, 25, 30, 40.01};
+int bin_of(double px) {
+  for (std::size_t i = 0; i + 1 < kBins.size(); ++i)
+    if (px >= kBins[i] && px < kBins[i + 1]) return static_cast<int>(i);
+  return -1;
+}
+
+void detection_table(const std::vector<Frame>& frames, const std::string& family, const std::vector<std::string>& names) {
+  auto dets = detectors(family, names);
+  const std::size_t nb = kBins.size() - 1;
+  std::vector<std::vector<int>> hit(dets.size(), std::vector<int>(nb, 0));
+  std::vector<int> total(nb, 0), wrong(dets.size(), 0), all_hits(dets.size(), 0);
+  std::vector<double> ms(dets.size(), 0), rms(dets.size(), 0);
+  for (const Frame& f : frames) {
+    for (const auto& t : f.tags)
+      if (bin_of(t.px) >= 0) ++total[static_cast<std::size_t>(bin_of(t.px))];
+    for (std::size_t d = 0; d < dets.size(); ++d) {
+      const auto out = dets[d]->run(f.gray);
+      ms[d] += out.ms;
+      for (const Found& x : out.found) {
+        bool matched = false;
+        for (const auto& t : f.tags) {
+          if (t.id != x.id || (centre(x.corners) - centre(t.corners)).norm() > 0.3 * t.px) continue;
+          matched = true;
+          const int b = bin_of(t.px);
+          if (b >= 0) ++hit[d][static_cast<std::size_t>(b)];
+          ++all_hits[d];
+          double e = 0;
+          for (std::size_t i = 0; i < 4; ++i) e += (x.corners[i] - t.corners[i]).squaredNorm();
+          rms[d] += std::sqrt(e / 4);
+          break;
+        }
+        if (!matched) ++wrong[d];
+      }
+    }
+  }
+  std::printf("%-22s", "black square px");
+  for (std::size_t b = 0; b < nb; ++b) std::printf(" [%2.0f,%2.0f)", kBins[b], kBins[b + 1]);
+  std::printf("    all  wrong  corner_rms  ms/frame\n%-22s", "tags");
+  int sum = 0;
+  for (std::size_t b = 0; b < nb; ++b) std::printf(" %7d", total[b]), sum += total[b];
+  std::printf(" %6d\n", sum);
+  for (std::size_t d = 0; d < dets.size(); ++d) {
+    std::printf("%-22s", dets[d]->name().c_str());
+    for (std::size_t b = 0; b < nb; ++b) std::printf(" %6.1f%%", total[b] ? 100.0 * hit[d][b] / total[b] : 0.0);
+    std::printf(" %5.1f%% %6d %9.3f %9.2f\n", sum ? 100.0 * all_hits[d] / sum : 0.0, wrong[d],
+                all_hits[d] ? rms[d] / all_hits[d] : 0.0, ms[d] / static_cast<double>(frames.size()));
+  }
+}
+
+std::vector<Frame> realistic_frames(int n, const std::string& family, std::uint64_t seed) {
+  bench::RealisticSettings s;
+  s.family = family;
+  s.seed = seed;
+  std::vector<Frame> frames;
+  for (int i = 0; i < n; ++i) {
+    auto rf = bench::make_realistic_frame(s, i);
+    Frame f{rf.image, {}};
+    for (const auto& t : rf.tags) f.tags.push_back({t.id, t.corners, t.black_square_px});
+    frames.push_back(std::move(f));
+  }
+  return frames;
+}
+
+// make_scene at 5x (tags 8-25 % of the height), INTER_AREA down to 240 x 180 (tags ~14-45 px),
+// Gaussian noise sigma 3 (of 255), JPEG quality 75.
+std::vector<Frame> small_frames(int n, const std::string& family, std::uint32_t seed) {
+  std::vector<Frame> frames;
+  std::mt19937 rng(seed);
+  for (int i = 0; i < n; ++i) {
+    const int k = 5, w = 240, h = 180;
+    Scene sc = make_scene(w * k, h * k, family, 3, seed + static_cast<std::uint32_t>(i));
+    cv::Mat small;
+    cv::resize(sc.image, small, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    cv::Mat noise(small.size(), CV_32F);
+    cv::randn(noise, 0, 3);
+    cv::Mat f32;
+    small.convertTo(f32, CV_32F);
+    f32 += noise;
+    f32.convertTo(small, CV_8U);
+    std::vector<uchar> jpg;
+    cv::imencode(".jpg", small, jpg, {cv::IMWRITE_JPEG_QUALITY, 75});
+    Frame f{cv::imdecode(jpg, cv::IMREAD_GRAYSCALE), {}};
+    for (const auto& t : sc.tags) {
+      Corners c;
+      // A full-resolution pixel centre x maps to (x + 0.5) / k - 0.5 after area averaging.
+      for (std::size_t j = 0; j < 4; ++j) c[j] = (t.corners[j] + Eigen::Vector2d(0.5, 0.5)) / k - Eigen::Vector2d(0.5, 0.5);
+      f.tags.push_back({t.id, c, std::sqrt(quad_area(c))});
+    }
+    frames.push_back(std::move(f));
+  }
+  (void)rng;
+  return frames;
+}
+
+std::vector<std::string> image_files(const std::string& dir, std::size_t max) {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    auto ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".webp") files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.size() > max) {  // an even spread over the sorted list (every group represented)
+    std::vector<std::string> pick;
+    for (std::size_t i = 0; i < max; ++i) pick.push_back(files[i * files.size() / max]);
+    files = pick;
+  }
+  return files;
+}
+
+std::vector<cv::Mat> load_gray(const std::vector<std::string>& files) {
+  std::vector<cv::Mat> v;
+  for (const auto& f : files) {
+    cv::Mat m = cv::imread(f, cv::IMREAD_GRAYSCALE);
+    if (m.empty()) continue;
+    if (std::max(m.cols, m.rows) > 2048) {  // as the corpus scan does
+      const double s = 2048.0 / std::max(m.cols, m.rows);
+      cv::resize(m, m, cv::Size(), s, s, cv::INTER_AREA);
+    }
+    v.push_back(m);
+  }
+  return v;
+}
+
+void speed_table(const std::string& label, const std::vector<cv::Mat>& images, int reps) {
+  const std::vector<std::string> names = {"thresh-full", "libapriltag-d1", "thresh-half", "libapriltag-d2", "tagbench-full",
+                                          "tagbench-half"};
+  auto dets = detectors("36h11", names);
+  std::vector<double> sum(dets.size(), 0);
+  for (const cv::Mat& im : images) {
+    for (auto& d : dets) d->run(im);  // warm the workspaces
+    std::vector<std::vector<double>> t(dets.size());
+    for (int r = 0; r < reps; ++r)
+      for (std::size_t d = 0; d < dets.size(); ++d) t[d].push_back(dets[d]->run(im).ms);  // alternating
+    for (std::size_t d = 0; d < dets.size(); ++d) {
+      std::sort(t[d].begin(), t[d].end());
+      sum[d] += t[d][t[d].size() / 2];
+    }
+  }
+  std::printf("%-28s %5zu images:", label.c_str(), images.size());
+  for (std::size_t d = 0; d < dets.size(); ++d) std::printf("  %s %.2f", names[d].c_str(), sum[d] / images.size());
+  std::printf("  | full/d1 %.2f  half/d2 %.2f\n", sum[0] / sum[1], sum[2] / sum[3]);
+}
+
+void natural_table(const std::vector<cv::Mat>& images) {
+  DetectorOptions po;
+  po.families = {"16h5"};
+  Detector paper(po);
+  DetectorWorkspace pws;
+  const std::vector<std::string> names = {"thresh-full", "thresh-half", "libapriltag-d1", "libapriltag-d2"};
+  auto h1 = detectors("16h5", names, 1);
+  auto h2 = detectors("16h5", {"thresh-full", "thresh-half"}, 2);
+  double paper_quads = 0, paper_fp = 0;
+  std::vector<double> quads(2, 0), fp(names.size(), 0), fp2(2, 0);
+  for (const cv::Mat& im : images) {
+    StageTimings tm;
+    paper_fp += static_cast<double>(paper.detect(im, pws, nullptr, &tm).size());
+    paper_quads += static_cast<double>(tm.quad_count);
+    for (std::size_t d = 0; d < h1.size(); ++d) {
+      fp[d] += static_cast<double>(h1[d]->run(im).found.size());
+      if (d < 2) quads[d] += static_cast<double>(static_cast<ThreshDetector&>(*h1[d]).last_stats().quads.quads);
+    }
+    for (std::size_t d = 0; d < h2.size(); ++d) fp2[d] += static_cast<double>(h2[d]->run(im).found.size());
+  }
+  const double n = static_cast<double>(images.size());
+  std::printf("%zu natural images, per image: candidate quads paper %.1f, thresh-full %.1f, thresh-half %.1f\n",
+              images.size(), paper_quads / n, quads[0] / n, quads[1] / n);
+  std::printf("16h5 false detections per image: paper(h1) %.2f", paper_fp / n);
+  for (std::size_t d = 0; d < names.size(); ++d)
+    std::printf("  %s%s %.2f", names[d].c_str(), d < 2 ? "(h1)" : "(h2)", fp[d] / n);
+  std::printf("  thresh-full(h2) %.2f  thresh-half(h2) %.2f\n", fp2[0] / n, fp2[1] / n);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    cv::setNumThreads(1);
+    const std::vector<std::string> a(argv + 1, argv + argc);
+    if (a.size() < 2) throw std::invalid_argument("usage: thresh_quads realistic|small N [FAMILY] | speed REPS DIR | natural DIR [MAX]");
+    const std::vector<std::string> all = {"thresh-full", "thresh-half", "thresh-full-norefine", "tagbench-full",
+                                          "tagbench-half", "libapriltag-d1", "libapriltag-d2"};
+    if (a[0] == "realistic" || a[0] == "small") {
+      const int n = std::stoi(a[1]);
+      const std::string fam = a.size() > 2 ? a[2] : "36h11";
+      std::printf("%s frames: %d, family %s, seed 1\n", a[0].c_str(), n, fam.c_str());
+      detection_table(a[0] == "realistic" ? realistic_frames(n, fam, 1) : small_frames(n, fam, 1), fam, all);
+    } else if (a[0] == "speed") {
+      const int reps = std::stoi(a[1]);
+      std::vector<cv::Mat> synth, real;
+      for (int i = 0; i < 6; ++i) synth.push_back(make_scene(1280, 960, "36h11", 6, 100 + static_cast<std::uint32_t>(i)).image);
+      for (const auto& f : realistic_frames(10, "36h11", 1)) real.push_back(f.gray);
+      speed_table("synthetic 1280x960 (seed 100+)", synth, reps);
+      speed_table("realistic 800x600 (seed 1)", real, reps);
+      if (a.size() > 2) speed_table("natural " + a[2], load_gray(image_files(a[2], a.size() > 3 ? std::stoul(a[3]) : 60)), reps);
+    } else if (a[0] == "natural") {
+      natural_table(load_gray(image_files(a[1], a.size() > 2 ? std::stoul(a[2]) : 200)));
+    } else {
+      throw std::invalid_argument("unknown mode '" + a[0] + "'");
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "thresh_quads: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
