@@ -5,6 +5,8 @@
 //   thresh_quads small N [FAMILY]       make_scene drawn at 5x, INTER_AREA down, noise, JPEG q75
 //   thresh_quads speed REPS DIR         ms per image: synthetic scenes, realistic frames, DIR's photos
 //   thresh_quads natural DIR [MAX]      candidate quads and 16h5 false detections per natural image
+//   thresh_quads profile NAME SET [MAX]  one detector once over SET (synthetic, realistic or a folder): for
+//                                        valgrind --tool=callgrind (instruction counts) or perf
 // Results are printed as tables (an experiment log, not a results/ CSV). Seeds are fixed and printed.
 #include <algorithm>
 #include <cstdio>
@@ -265,6 +267,24 @@ int main(int argc, char** argv) {
       speed_table("synthetic 1280x960 (seed 100+)", synth, reps);
       speed_table("realistic 800x600 (seed 1)", real, reps);
       if (a.size() > 2) speed_table("natural " + a[2], load_gray(image_files(a[2], a.size() > 3 ? std::stoul(a[3]) : 60)), reps);
+    } else if (a[0] == "profile") {
+      if (a.size() < 3) throw std::invalid_argument("usage: thresh_quads profile NAME SET [MAX]");
+      std::vector<cv::Mat> images;
+      if (a[2] == "synthetic")
+        for (int i = 0; i < 6; ++i) images.push_back(make_scene(1280, 960, "36h11", 6, 100 + static_cast<std::uint32_t>(i)).image);
+      else if (a[2] == "realistic")
+        for (const auto& f : realistic_frames(10, "36h11", 1)) images.push_back(f.gray);
+      else
+        images = load_gray(image_files(a[2], a.size() > 3 ? std::stoul(a[3]) : 20));
+      auto det = detectors("36h11", {a[1]});
+      double ms = 0;
+      std::size_t found = 0;
+      for (const auto& im : images) {
+        const auto out = det[0]->run(im);
+        ms += out.ms;
+        found += out.found.size();
+      }
+      std::printf("%s on %zu images: %zu found, %.2f ms/image\n", a[1].c_str(), images.size(), found, ms / images.size());
     } else if (a[0] == "natural") {
       natural_table(load_gray(image_files(a[1], a.size() > 2 ? std::stoul(a[2]) : 200)));
     } else {

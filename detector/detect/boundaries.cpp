@@ -64,6 +64,8 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
   s.raw_group.clear();
   PairTable table(s);
   const std::uint32_t min_size = opt.min_component_pixels;
+  std::uint64_t last_key = kEmpty;
+  std::uint32_t last_group = 0;
   auto big = [&](std::uint32_t id) { return id != kNoComponent && comp.size[id] >= min_size; };
 
   for (int y = 0; y < h; ++y) {
@@ -91,7 +93,12 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
         const int sign = v1 > v0 ? 1 : -1;  // toward the light pixel
         s.raw.push_back(BoundaryPoint{2 * x + dx, 2 * y + dy, static_cast<std::int8_t>(sign * dx),
                                       static_cast<std::int8_t>(sign * dy)});
-        s.raw_group.push_back(table.get(key));
+        // Consecutive points mostly belong to the same pair: a one-entry cache skips most lookups.
+        if (key != last_key) {
+          last_key = key;
+          last_group = table.get(key);
+        }
+        s.raw_group.push_back(last_group);
         return true;
       };
       if (right) add(1, 0, v[x + 1], lab[x + 1]);
