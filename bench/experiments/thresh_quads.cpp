@@ -1,8 +1,9 @@
 // Issue 17 experiment driver: the threshold quad stage (detect/threshold_quads.hpp) against the
 // paper's gradient quads and libapriltag 3 (d1, d2) on the same frames, single thread.
 //
-//   thresh_quads realistic N [FAMILY]   detection per tag size on N realistic frames (bench/realistic)
-//   thresh_quads small N [FAMILY]       make_scene drawn at 5x, INTER_AREA down, noise, JPEG q75
+//   thresh_quads realistic N [FAMILY [DETECTORS]]  detection per tag size on N realistic frames (bench/realistic)
+//   thresh_quads small N [FAMILY [DETECTORS]]      make_scene drawn at 5x, INTER_AREA down, noise, JPEG q75
+//     DETECTORS: comma-separated; thresh-{full,half}[-norefine][-blurS] or a make_comparator name
 //   thresh_quads speed REPS DIR         ms per image: synthetic scenes, realistic frames, DIR's photos
 //   thresh_quads natural DIR [MAX]      candidate quads and 16h5 false detections per natural image
 //   thresh_quads profile NAME SET [MAX]  one detector once over SET (synthetic, realistic or a folder): for
@@ -36,6 +37,7 @@ struct TruthTag {
   int id;
   Corners corners;
   double px;  // sqrt of the black square's area
+  double tilt = -1;  // degrees between the tag's normal and the line of sight (-1: unknown)
 };
 struct Frame {
   cv::Mat gray;
@@ -47,6 +49,15 @@ double quad_area(const Corners& c) {
   for (std::size_t i = 0; i < 4; ++i) a += c[i].x() * c[(i + 1) % 4].y() - c[(i + 1) % 4].x() * c[i].y();
   return std::abs(a) / 2;
 }
+// The same quad up to the cyclic order of its corners: every corner within tol px.
+bool same_quad(const Corners& a, const Corners& b, double tol) {
+  for (std::size_t r = 0; r < 4; ++r) {
+    bool ok = true;
+    for (std::size_t i = 0; i < 4 && ok; ++i) ok = (a[(i + r) % 4] - b[i]).norm() <= tol;
+    if (ok) return true;
+  }
+  return false;
+}
 Eigen::Vector2d centre(const Corners& c) { return 0.25 * (c[0] + c[1] + c[2] + c[3]); }
 
 std::vector<std::unique_ptr<Comparator>> detectors(const std::string& family, const std::vector<std::string>& names,
@@ -55,13 +66,14 @@ std::vector<std::unique_ptr<Comparator>> detectors(const std::string& family, co
   ComparatorSetup setup;
   setup.family = family;
   for (const auto& n : names) {
-    if (n == "thresh-full" || n == "thresh-half" || n == "thresh-half-norefine" || n == "thresh-full-norefine") {
+    if (n.rfind("thresh-", 0) == 0) {  // thresh-{full,half}[-norefine][-blurS]
       ThreshDetectorOptions o;
       o.family = family;
       o.max_hamming = max_hamming;
       o.quads.halve = n.find("half") != std::string::npos;
       o.quads.refine_edges = n.find("norefine") == std::string::npos;
       o.quads.fit.min_tag_width = 6;
+      if (const auto b = n.find("-blur"); b != std::string::npos) o.quads.blur_sigma = std::stod(n.substr(b + 5));
       v.push_back(std::make_unique<ThreshDetector>(n, o));
     } else {
       v.push_back(make_comparator(n, setup));
@@ -82,13 +94,37 @@ void detection_table(const std::vector<Frame>& frames, const std::string& family
   const std::size_t nb = kBins.size() - 1;
   std::vector<std::vector<int>> hit(dets.size(), std::vector<int>(nb, 0));
   std::vector<int> total(nb, 0), wrong(dets.size(), 0), all_hits(dets.size(), 0);
-  std::vector<double> ms(dets.size(), 0), rms(dets.size(), 0);
+  std::vector<double> ms(dets.size(), 0), rms(dets.size(), 0), quads(dets.size(), 0);
+  std::vector<std::vector<int>> quad_hit(dets.size(), std::vector<int>(nb, 0));
+  const std::vector<double> tilts = {0, 30, 45, 55, 66};  // tags of 20 px and more, by tilt
+  std::vector<std::vector<int>> tilt_hit(dets.size(), std::vector<int>(tilts.size() - 1, 0));
+  std::vector<int> tilt_total(tilts.size() - 1, 0);
+  auto tilt_bin = [&](const TruthTag& t) {
+    if (t.px < 20 || t.tilt < 0) return -1;
+    for (std::size_t i = 0; i + 1 < tilts.size(); ++i)
+      if (t.tilt >= tilts[i] && t.tilt < tilts[i + 1]) return static_cast<int>(i);
+    return -1;
+  };
   for (const Frame& f : frames) {
-    for (const auto& t : f.tags)
+    for (const auto& t : f.tags) {
       if (bin_of(t.px) >= 0) ++total[static_cast<std::size_t>(bin_of(t.px))];
+      if (tilt_bin(t) >= 0) ++tilt_total[static_cast<std::size_t>(tilt_bin(t))];
+    }
     for (std::size_t d = 0; d < dets.size(); ++d) {
       const auto out = dets[d]->run(f.gray);
       ms[d] += out.ms;
+      if (auto* th = dynamic_cast<ThreshDetector*>(dets[d].get())) {  // did the candidate stage find the tag at all?
+        quads[d] += static_cast<double>(th->last_quads().size());
+        for (const auto& t : f.tags) {
+          const int b = bin_of(t.px);
+          if (b < 0) continue;
+          for (const Quad& q : th->last_quads())
+            if (same_quad(q.corners, t.corners, std::max(1.0, 0.08 * t.px))) {
+              ++quad_hit[d][static_cast<std::size_t>(b)];
+              break;
+            }
+        }
+      }
       for (const Found& x : out.found) {
         bool matched = false;
         for (const auto& t : f.tags) {
@@ -96,6 +132,7 @@ void detection_table(const std::vector<Frame>& frames, const std::string& family
           matched = true;
           const int b = bin_of(t.px);
           if (b >= 0) ++hit[d][static_cast<std::size_t>(b)];
+          if (tilt_bin(t) >= 0) ++tilt_hit[d][static_cast<std::size_t>(tilt_bin(t))];
           ++all_hits[d];
           double e = 0;
           for (std::size_t i = 0; i < 4; ++i) e += (x.corners[i] - t.corners[i]).squaredNorm();
@@ -118,6 +155,25 @@ void detection_table(const std::vector<Frame>& frames, const std::string& family
     std::printf(" %5.1f%% %6d %9.3f %9.2f\n", sum ? 100.0 * all_hits[d] / sum : 0.0, wrong[d],
                 all_hits[d] ? rms[d] / all_hits[d] : 0.0, ms[d] / static_cast<double>(frames.size()));
   }
+  if (tilt_total[0] + tilt_total.back() > 0) {
+    std::printf("tags >= 20 px by tilt  ");
+    for (std::size_t i = 0; i + 1 < tilts.size(); ++i) std::printf(" [%2.0f,%2.0f):%-4d", tilts[i], tilts[i + 1], tilt_total[i]);
+    std::printf("\n");
+    for (std::size_t d = 0; d < dets.size(); ++d) {
+      std::printf("%-22s", dets[d]->name().c_str());
+      for (std::size_t i = 0; i + 1 < tilts.size(); ++i)
+        std::printf(" %10.1f%%", tilt_total[i] ? 100.0 * tilt_hit[d][i] / tilt_total[i] : 0.0);
+      std::printf("\n");
+    }
+  }
+  for (std::size_t d = 0; d < dets.size(); ++d) {
+    if (!dynamic_cast<ThreshDetector*>(dets[d].get())) continue;
+    std::printf("%-22s", (dets[d]->name() + " quad").c_str());
+    int qh = 0;
+    for (std::size_t b = 0; b < nb; ++b) std::printf(" %6.1f%%", total[b] ? 100.0 * quad_hit[d][b] / total[b] : 0.0), qh += quad_hit[d][b];
+    std::printf(" %5.1f%%  (a candidate quad within max(1, 0.08 side) px of every corner; %.0f quads/frame)\n",
+                sum ? 100.0 * qh / sum : 0.0, quads[d] / static_cast<double>(frames.size()));
+  }
 }
 
 std::vector<Frame> realistic_frames(int n, const std::string& family, std::uint64_t seed) {
@@ -128,7 +184,7 @@ std::vector<Frame> realistic_frames(int n, const std::string& family, std::uint6
   for (int i = 0; i < n; ++i) {
     auto rf = bench::make_realistic_frame(s, i);
     Frame f{rf.image, {}};
-    for (const auto& t : rf.tags) f.tags.push_back({t.id, t.corners, t.black_square_px});
+    for (const auto& t : rf.tags) f.tags.push_back({t.id, t.corners, t.black_square_px, t.tilt_deg});
     frames.push_back(std::move(f));
   }
   return frames;
@@ -258,7 +314,14 @@ int main(int argc, char** argv) {
       const int n = std::stoi(a[1]);
       const std::string fam = a.size() > 2 ? a[2] : "36h11";
       std::printf("%s frames: %d, family %s, seed 1\n", a[0].c_str(), n, fam.c_str());
-      detection_table(a[0] == "realistic" ? realistic_frames(n, fam, 1) : small_frames(n, fam, 1), fam, all);
+      std::vector<std::string> names = all;
+      if (a.size() > 3) {  // a comma-separated list instead
+        names.clear();
+        std::size_t p = 0;
+        for (std::size_t c; (c = a[3].find(',', p)) != std::string::npos; p = c + 1) names.push_back(a[3].substr(p, c - p));
+        names.push_back(a[3].substr(p));
+      }
+      detection_table(a[0] == "realistic" ? realistic_frames(n, fam, 1) : small_frames(n, fam, 1), fam, names);
     } else if (a[0] == "speed") {
       const int reps = std::stoi(a[1]);
       std::vector<cv::Mat> synth, real;

@@ -27,8 +27,11 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   if (halve) half_resolution(img, ws.half);
   const ImageF& in = halve ? ws.half : img;
   st.ms_halve = lap(t);
+  if (opt.blur_sigma > 0) gaussian_blur(in, opt.blur_sigma, ws.blur_tmp, ws.blurred);
+  const ImageF& th_in = opt.blur_sigma > 0 ? ws.blurred : in;
+  st.ms_blur = lap(t);
 
-  adaptive_threshold(in, opt.threshold, ws.threshold, ws.ternary);
+  adaptive_threshold(th_in, opt.threshold, ws.threshold, ws.ternary);
   st.ms_threshold = lap(t);
   connected_components(ws.ternary, ws.component_scratch, ws.components);
   st.ms_components = lap(t);

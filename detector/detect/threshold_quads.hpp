@@ -22,6 +22,10 @@ struct ThresholdQuadOptions {
   // Find candidates on a half-size image (2x2 block mean, blur.hpp's half_resolution): about 4x less
   // work in every stage below, at the price of tags under ~20 px (AprilTag 3: quad_decimate 2).
   bool halve = false;
+  // Gaussian blur (blur.hpp) of the image the threshold sees, px of that image; 0 = off. Smooths
+  // JPEG blocks and noise so thin rings stay connected; quads are still refined on the unblurred
+  // image. (AprilTag 3: quad_sigma, default 0.)
+  double blur_sigma = 0;
   ThresholdOptions threshold;
   BoundaryOptions boundaries;
   QuadFitOptions fit;      // fit.min_tag_width is in full-resolution pixels (halved internally, >= 3)
@@ -32,7 +36,7 @@ struct ThresholdQuadOptions {
 // Reusable buffers (only grow; nothing is allocated per frame once one image size has been seen,
 // except the returned vector).
 struct ThresholdQuadWorkspace {
-  ImageF half;
+  ImageF half, blurred, blur_tmp;
   TernaryImage ternary;
   ThresholdScratch threshold;
   Components components;
@@ -43,7 +47,7 @@ struct ThresholdQuadWorkspace {
 };
 
 struct ThresholdQuadStats {
-  double ms_halve = 0, ms_threshold = 0, ms_components = 0, ms_boundaries = 0, ms_fit = 0, ms_refine = 0;
+  double ms_halve = 0, ms_blur = 0, ms_threshold = 0, ms_components = 0, ms_boundaries = 0, ms_fit = 0, ms_refine = 0;
   std::size_t components = 0, groups = 0, boundary_points = 0, quads = 0;
 };
 
