@@ -3,9 +3,11 @@
 //
 //   thresh_quads realistic N [FAMILY [DETECTORS]]  detection per tag size on N realistic frames (bench/realistic)
 //   thresh_quads small N [FAMILY [DETECTORS]]      make_scene drawn at 5x, INTER_AREA down, noise, JPEG q75
+//   thresh_quads realistic-blurS N ...             the same with every frame's defocus sigma = S px
+//   thresh_quads defocusS N ...                    make_scene 640x480 (tags 38-120 px) blurred with sigma S
 //     DETECTORS: comma-separated; thresh-{full,half}[-norefine][-blurS] or a make_comparator name
 //   thresh_quads speed REPS DIR         ms per image: synthetic scenes, realistic frames, DIR's photos
-//   thresh_quads natural DIR [MAX]      candidate quads and 16h5 false detections per natural image
+//   thresh_quads natural DIR [MAX [FULL HALF]]  candidate quads and 16h5 false detections per natural image
 //   thresh_quads profile NAME SET [MAX]  one detector once over SET (synthetic, realistic or a folder): for
 //                                        valgrind --tool=callgrind (instruction counts) or perf
 // Results are printed as tables (an experiment log, not a results/ CSV). Seeds are fixed and printed.
@@ -74,6 +76,11 @@ std::vector<std::unique_ptr<Comparator>> detectors(const std::string& family, co
       o.quads.refine_edges = n.find("norefine") == std::string::npos;
       o.quads.fit.min_tag_width = 6;
       if (const auto b = n.find("-blur"); b != std::string::npos) o.quads.blur_sigma = std::stod(n.substr(b + 5));
+      if (const auto b = n.find("-tile"); b != std::string::npos) o.quads.threshold.tile_size = std::stoi(n.substr(b + 5));
+      if (const auto b = n.find("-contrast"); b != std::string::npos)
+        o.quads.threshold.min_contrast = std::stof(n.substr(b + 9)) / 255.0f;
+      if (const auto b = n.find("-minpix"); b != std::string::npos)
+        o.quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(std::stoul(n.substr(b + 7)));
       v.push_back(std::make_unique<ThreshDetector>(n, o));
     } else {
       v.push_back(make_comparator(n, setup));
@@ -82,7 +89,7 @@ std::vector<std::unique_ptr<Comparator>> detectors(const std::string& family, co
   return v;
 }
 
-const std::vector<double> kBins = {12, 16, 20, 25, 30, 40.01};
+std::vector<double> kBins = {12, 16, 20, 25, 30, 40.01};
 int bin_of(double px) {
   for (std::size_t i = 0; i + 1 < kBins.size(); ++i)
     if (px >= kBins[i] && px < kBins[i + 1]) return static_cast<int>(i);
@@ -176,8 +183,9 @@ void detection_table(const std::vector<Frame>& frames, const std::string& family
   }
 }
 
-std::vector<Frame> realistic_frames(int n, const std::string& family, std::uint64_t seed) {
+std::vector<Frame> realistic_frames(int n, const std::string& family, std::uint64_t seed, double blur = -1) {
   bench::RealisticSettings s;
+  if (blur >= 0) s.blur_sigma_px = {blur, blur};  // a fixed defocus instead of the calibrated range
   s.family = family;
   s.seed = seed;
   std::vector<Frame> frames;
@@ -218,6 +226,28 @@ std::vector<Frame> small_frames(int n, const std::string& family, std::uint32_t 
     frames.push_back(std::move(f));
   }
   (void)rng;
+  return frames;
+}
+
+// make_scene at 640 x 480 (tags 38-120 px), Gaussian blur sigma px (defocus), noise sigma 2, JPEG q90.
+std::vector<Frame> defocus_frames(int n, const std::string& family, double sigma) {
+  std::vector<Frame> frames;
+  for (int i = 0; i < n; ++i) {
+    Scene sc = make_scene(640, 480, family, 4, 500 + static_cast<std::uint32_t>(i));
+    cv::Mat b, f32;
+    cv::GaussianBlur(sc.image, b, cv::Size(), sigma);
+    cv::Mat noise(b.size(), CV_32F);
+    cv::setRNGSeed(500 + i);
+    cv::randn(noise, 0, 2);
+    b.convertTo(f32, CV_32F);
+    f32 += noise;
+    f32.convertTo(b, CV_8U);
+    std::vector<uchar> jpg;
+    cv::imencode(".jpg", b, jpg, {cv::IMWRITE_JPEG_QUALITY, 90});
+    Frame f{cv::imdecode(jpg, cv::IMREAD_GRAYSCALE), {}};
+    for (const auto& t : sc.tags) f.tags.push_back({t.id, t.corners, std::sqrt(quad_area(t.corners))});
+    frames.push_back(std::move(f));
+  }
   return frames;
 }
 
@@ -272,14 +302,14 @@ void speed_table(const std::string& label, const std::vector<cv::Mat>& images, i
   std::printf("  | full/d1 %.2f  half/d2 %.2f\n", sum[0] / sum[1], sum[2] / sum[3]);
 }
 
-void natural_table(const std::vector<cv::Mat>& images) {
+void natural_table(const std::vector<cv::Mat>& images, const std::string& full, const std::string& half) {
   DetectorOptions po;
   po.families = {"16h5"};
   Detector paper(po);
   DetectorWorkspace pws;
-  const std::vector<std::string> names = {"thresh-full", "thresh-half", "libapriltag-d1", "libapriltag-d2"};
+  const std::vector<std::string> names = {full, half, "libapriltag-d1", "libapriltag-d2"};
   auto h1 = detectors("16h5", names, 1);
-  auto h2 = detectors("16h5", {"thresh-full", "thresh-half"}, 2);
+  auto h2 = detectors("16h5", {full, half}, 2);
   double paper_quads = 0, paper_fp = 0;
   std::vector<double> quads(2, 0), fp(names.size(), 0), fp2(2, 0);
   for (const cv::Mat& im : images) {
@@ -293,12 +323,12 @@ void natural_table(const std::vector<cv::Mat>& images) {
     for (std::size_t d = 0; d < h2.size(); ++d) fp2[d] += static_cast<double>(h2[d]->run(im).found.size());
   }
   const double n = static_cast<double>(images.size());
-  std::printf("%zu natural images, per image: candidate quads paper %.1f, thresh-full %.1f, thresh-half %.1f\n",
-              images.size(), paper_quads / n, quads[0] / n, quads[1] / n);
+  std::printf("%zu natural images, per image: candidate quads paper %.1f, %s %.1f, %s %.1f\n", images.size(),
+              paper_quads / n, full.c_str(), quads[0] / n, half.c_str(), quads[1] / n);
   std::printf("16h5 false detections per image: paper(h1) %.2f", paper_fp / n);
   for (std::size_t d = 0; d < names.size(); ++d)
     std::printf("  %s%s %.2f", names[d].c_str(), d < 2 ? "(h1)" : "(h2)", fp[d] / n);
-  std::printf("  thresh-full(h2) %.2f  thresh-half(h2) %.2f\n", fp2[0] / n, fp2[1] / n);
+  std::printf("  %s(h2) %.2f  %s(h2) %.2f\n", full.c_str(), fp2[0] / n, half.c_str(), fp2[1] / n);
 }
 
 }  // namespace
@@ -310,7 +340,21 @@ int main(int argc, char** argv) {
     if (a.size() < 2) throw std::invalid_argument("usage: thresh_quads realistic|small N [FAMILY] | speed REPS DIR | natural DIR [MAX]");
     const std::vector<std::string> all = {"thresh-full", "thresh-half", "thresh-full-norefine", "tagbench-full",
                                           "tagbench-half", "libapriltag-d1", "libapriltag-d2"};
-    if (a[0] == "realistic" || a[0] == "small") {
+    if (a[0].rfind("defocus", 0) == 0) {  // defocusS N [FAMILY [DETECTORS]]
+      kBins = {30, 60, 90, 130};
+      const double sigma = std::stod(a[0].substr(7));
+      const int n = std::stoi(a[1]);
+      const std::string fam = a.size() > 2 ? a[2] : "36h11";
+      std::vector<std::string> names = all;
+      if (a.size() > 3) {
+        names.clear();
+        std::size_t p = 0;
+        for (std::size_t c; (c = a[3].find(',', p)) != std::string::npos; p = c + 1) names.push_back(a[3].substr(p, c - p));
+        names.push_back(a[3].substr(p));
+      }
+      std::printf("defocus sigma %.1f px, %d make_scene 640x480 frames (seed 500+), noise 2, JPEG 90\n", sigma, n);
+      detection_table(defocus_frames(n, fam, sigma), fam, names);
+    } else if (a[0] == "realistic" || a[0] == "small" || a[0].rfind("realistic-blur", 0) == 0) {
       const int n = std::stoi(a[1]);
       const std::string fam = a.size() > 2 ? a[2] : "36h11";
       std::printf("%s frames: %d, family %s, seed 1\n", a[0].c_str(), n, fam.c_str());
@@ -321,7 +365,8 @@ int main(int argc, char** argv) {
         for (std::size_t c; (c = a[3].find(',', p)) != std::string::npos; p = c + 1) names.push_back(a[3].substr(p, c - p));
         names.push_back(a[3].substr(p));
       }
-      detection_table(a[0] == "realistic" ? realistic_frames(n, fam, 1) : small_frames(n, fam, 1), fam, names);
+      const double blur = a[0].rfind("realistic-blur", 0) == 0 ? std::stod(a[0].substr(14)) : -1;
+      detection_table(a[0] == "small" ? small_frames(n, fam, 1) : realistic_frames(n, fam, 1, blur), fam, names);
     } else if (a[0] == "speed") {
       const int reps = std::stoi(a[1]);
       std::vector<cv::Mat> synth, real;
@@ -349,7 +394,8 @@ int main(int argc, char** argv) {
       }
       std::printf("%s on %zu images: %zu found, %.2f ms/image\n", a[1].c_str(), images.size(), found, ms / images.size());
     } else if (a[0] == "natural") {
-      natural_table(load_gray(image_files(a[1], a.size() > 2 ? std::stoul(a[2]) : 200)));
+      natural_table(load_gray(image_files(a[1], a.size() > 2 ? std::stoul(a[2]) : 200)), a.size() > 3 ? a[3] : "thresh-full",
+                    a.size() > 4 ? a[4] : "thresh-half");
     } else {
       throw std::invalid_argument("unknown mode '" + a[0] + "'");
     }

@@ -76,7 +76,12 @@ void corner_candidates(QuadFitScratch& s, int max_maxima) {
   static constexpr double g[7] = {0.011109, 0.135335, 0.606531, 1.0, 0.606531, 0.135335, 0.011109};
   for (int i = 0; i < n; ++i) {
     double acc = 0;
-    for (int j = -3; j <= 3; ++j) acc += g[j + 3] * s.err[static_cast<std::size_t>((i + j + 3 * n) % n)];
+    if (i >= 3 && i + 3 < n) {  // no wrap: the common case, without a modulo per tap
+      const double* e = s.err.data() + i - 3;
+      for (int j = 0; j < 7; ++j) acc += g[j] * e[j];
+    } else {
+      for (int j = -3; j <= 3; ++j) acc += g[j + 3] * s.err[static_cast<std::size_t>((i + j + 3 * n) % n)];
+    }
     s.smooth[static_cast<std::size_t>(i)] = acc;
   }
   s.maxima.clear();

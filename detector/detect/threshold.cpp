@@ -30,6 +30,33 @@ void minmax3(const std::vector<float>& in_min, const std::vector<float>& in_max,
     }
 }
 
+// Min and max of each tile's share of one row, merged into tmin / tmax. T > 0: the tile size known
+// at compile time; T == 0: `t` at run time.
+template <int T>
+void row_minmax(const float* row, int w, float* tmin, float* tmax, int t = T) {
+  const int size = T > 0 ? T : t;
+  const int full = w / size;
+  for (int tx = 0; tx < full; ++tx) {
+    const float* p = row + tx * size;
+    float mn = tmin[tx], mx = tmax[tx];
+    for (int i = 0; i < size; ++i) {
+      mn = std::min(mn, p[i]);
+      mx = std::max(mx, p[i]);
+    }
+    tmin[tx] = mn;
+    tmax[tx] = mx;
+  }
+  if (full * size < w) {  // the partial last tile
+    float mn = tmin[full], mx = tmax[full];
+    for (int x = full * size; x < w; ++x) {
+      mn = std::min(mn, row[x]);
+      mx = std::max(mx, row[x]);
+    }
+    tmin[full] = mn;
+    tmax[full] = mx;
+  }
+}
+
 }  // namespace
 
 void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, ThresholdScratch& s, TernaryImage& out) {
@@ -48,40 +75,45 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
   s.tmp_min.resize(nt);
   s.tmp_max.resize(nt);
 
-  // 1. Tile min / max, one image row at a time (sequential reads).
+  // 1. Tile min / max, one image row at a time (sequential reads; the common tile sizes get loops
+  // the compiler unrolls).
   for (int y = 0; y < h; ++y) {
     const float* row = img.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
     float* tmin = s.tile_min.data() + static_cast<std::size_t>(y / t) * static_cast<std::size_t>(tw);
     float* tmax = s.tile_max.data() + static_cast<std::size_t>(y / t) * static_cast<std::size_t>(tw);
-    for (int tx = 0; tx < tw; ++tx) {
-      const int x0 = tx * t, x1 = std::min(w, x0 + t);
-      float mn = tmin[tx], mx = tmax[tx];
-      for (int x = x0; x < x1; ++x) {
-        mn = std::min(mn, row[x]);
-        mx = std::max(mx, row[x]);
-      }
-      tmin[tx] = mn;
-      tmax[tx] = mx;
+    switch (t) {
+      case 2: row_minmax<2>(row, w, tmin, tmax); break;
+      case 3: row_minmax<3>(row, w, tmin, tmax); break;
+      case 4: row_minmax<4>(row, w, tmin, tmax); break;
+      default: row_minmax<0>(row, w, tmin, tmax, t); break;
     }
   }
   // 2. Widen to the 3 x 3 tiles around each tile (separable).
   minmax3(s.tile_min, s.tile_max, s.tmp_min, s.tmp_max, tw, th, true);
   minmax3(s.tmp_min, s.tmp_max, s.tile_min, s.tile_max, tw, th, false);
 
-  // 3. Class each pixel against its tile's midpoint.
+  // 3. Class each pixel against its tile's midpoint: per tile row, the midpoint of every column is
+  // spread out once (a flat tile gets a midpoint above any intensity and is marked in `flat`), so the
+  // per-pixel loop is branch-free.
+  s.mid.resize(static_cast<std::size_t>(w));
+  s.flat.resize(static_cast<std::size_t>(w));
   for (int y = 0; y < h; ++y) {
+    if (y % t == 0) {
+      const std::size_t trow = static_cast<std::size_t>(y / t) * static_cast<std::size_t>(tw);
+      for (int x = 0; x < w; ++x) {
+        const float mn = s.tile_min[trow + static_cast<std::size_t>(x / t)], mx = s.tile_max[trow + static_cast<std::size_t>(x / t)];
+        const bool flat = mx - mn < opt.min_contrast;
+        s.flat[static_cast<std::size_t>(x)] = flat ? kTernaryUnknown : 0;
+        s.mid[static_cast<std::size_t>(x)] = mn + 0.5f * (mx - mn);
+      }
+    }
     const float* row = img.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
     std::uint8_t* o = out.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
-    const std::size_t trow = static_cast<std::size_t>(y / t) * static_cast<std::size_t>(tw);
-    for (int tx = 0; tx < tw; ++tx) {
-      const float mn = s.tile_min[trow + static_cast<std::size_t>(tx)], mx = s.tile_max[trow + static_cast<std::size_t>(tx)];
-      const int x0 = tx * t, x1 = std::min(w, x0 + t);
-      if (mx - mn < opt.min_contrast) {
-        std::fill(o + x0, o + x1, kTernaryUnknown);
-        continue;
-      }
-      const float mid = mn + 0.5f * (mx - mn);
-      for (int x = x0; x < x1; ++x) o[x] = row[x] > mid ? kTernaryLight : kTernaryDark;
+    const float* mid = s.mid.data();
+    const std::uint8_t* flat = s.flat.data();
+    for (int x = 0; x < w; ++x) {
+      const std::uint8_t cls = row[x] > mid[x] ? kTernaryLight : kTernaryDark;
+      o[x] = flat[x] ? kTernaryUnknown : cls;
     }
   }
 }
