@@ -138,12 +138,14 @@ void detection_table(const std::vector<Frame>& frames, const std::string& family
           if (t.id != x.id || (centre(x.corners) - centre(t.corners)).norm() > 0.3 * t.px) continue;
           matched = true;
           const int b = bin_of(t.px);
-          if (b >= 0) ++hit[d][static_cast<std::size_t>(b)];
           if (tilt_bin(t) >= 0) ++tilt_hit[d][static_cast<std::size_t>(tilt_bin(t))];
-          ++all_hits[d];
-          double e = 0;
-          for (std::size_t i = 0; i < 4; ++i) e += (x.corners[i] - t.corners[i]).squaredNorm();
-          rms[d] += std::sqrt(e / 4);
+          if (b >= 0) {  // the summary columns count the binned tags only
+            ++hit[d][static_cast<std::size_t>(b)];
+            ++all_hits[d];
+            double e = 0;
+            for (std::size_t i = 0; i < 4; ++i) e += (x.corners[i] - t.corners[i]).squaredNorm();
+            rms[d] += std::sqrt(e / 4);
+          }
           break;
         }
         if (!matched) ++wrong[d];
