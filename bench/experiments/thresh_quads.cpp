@@ -6,7 +6,8 @@
 //   thresh_quads realistic-blurS N ...             the same with every frame's defocus sigma = S px
 //   thresh_quads defocusS N ...                    make_scene 640x480 (tags 38-120 px) blurred with sigma S
 //     DETECTORS: comma-separated; thresh-{full,half}[-norefine][-blurS] or a make_comparator name
-//   thresh_quads speed REPS DIR         ms per image: synthetic scenes, realistic frames, DIR's photos
+//   thresh_quads speed REPS [DIR [MAX [DIR2 ...]]]  ms per image (median of REPS, detectors alternating):
+//                                        synthetic scenes, realistic frames, then MAX images of each folder
 //   thresh_quads natural DIR [MAX [FULL HALF]]  candidate quads and 16h5 false detections per natural image
 //   thresh_quads profile NAME SET [MAX]  one detector once over SET (synthetic, realistic or a folder): for
 //                                        valgrind --tool=callgrind (instruction counts) or perf
@@ -286,22 +287,30 @@ std::vector<cv::Mat> load_gray(const std::vector<std::string>& files) {
 
 void speed_table(const std::string& label, const std::vector<cv::Mat>& images, int reps) {
   const std::vector<std::string> names = {"thresh-full", "libapriltag-d1", "thresh-half", "libapriltag-d2", "tagbench-full",
-                                          "tagbench-half"};
+                                          "tagbench-half", "thresh-full-tile2-contrast20", "thresh-half-tile2-contrast20"};
   auto dets = detectors("36h11", names);
   std::vector<double> sum(dets.size(), 0);
+  std::vector<std::size_t> found(dets.size(), 0);
   for (const cv::Mat& im : images) {
     for (auto& d : dets) d->run(im);  // warm the workspaces
     std::vector<std::vector<double>> t(dets.size());
     for (int r = 0; r < reps; ++r)
-      for (std::size_t d = 0; d < dets.size(); ++d) t[d].push_back(dets[d]->run(im).ms);  // alternating
+      for (std::size_t d = 0; d < dets.size(); ++d) {  // alternating
+        const auto out = dets[d]->run(im);
+        t[d].push_back(out.ms);
+        if (r == 0) found[d] += out.found.size();
+      }
     for (std::size_t d = 0; d < dets.size(); ++d) {
       std::sort(t[d].begin(), t[d].end());
       sum[d] += t[d][t[d].size() / 2];
     }
   }
   std::printf("%-28s %5zu images:", label.c_str(), images.size());
-  for (std::size_t d = 0; d < dets.size(); ++d) std::printf("  %s %.2f", names[d].c_str(), sum[d] / images.size());
-  std::printf("  | full/d1 %.2f  half/d2 %.2f\n", sum[0] / sum[1], sum[2] / sum[3]);
+  for (std::size_t d = 0; d < dets.size(); ++d)
+    std::printf("  %s %.2f ms (%zu found)", names[d].c_str(), sum[d] / images.size(), found[d]);
+  std::printf("\n    ratios: thresh-full/d1 %.2f  thresh-half/d2 %.2f  tile2-c20 full/d1 %.2f  half/d2 %.2f  tagbench-full/d1 %.2f  "
+              "tagbench-half/d2 %.2f\n",
+              sum[0] / sum[1], sum[2] / sum[3], sum[6] / sum[1], sum[7] / sum[3], sum[4] / sum[1], sum[5] / sum[3]);
 }
 
 void natural_table(const std::vector<cv::Mat>& images, const std::string& full, const std::string& half) {
@@ -376,7 +385,10 @@ int main(int argc, char** argv) {
       for (const auto& f : realistic_frames(10, "36h11", 1)) real.push_back(f.gray);
       speed_table("synthetic 1280x960 (seed 100+)", synth, reps);
       speed_table("realistic 800x600 (seed 1)", real, reps);
-      if (a.size() > 2) speed_table("natural " + a[2], load_gray(image_files(a[2], a.size() > 3 ? std::stoul(a[3]) : 60)), reps);
+      // Further folders (natural photos, ray-traced frames, ...), MAX images of each spread over the folder.
+      const std::size_t max = a.size() > 3 ? std::stoul(a[3]) : 60;
+      if (a.size() > 2) speed_table("folder " + a[2], load_gray(image_files(a[2], max)), reps);
+      for (std::size_t i = 4; i < a.size(); ++i) speed_table("folder " + a[i], load_gray(image_files(a[i], max)), reps);
     } else if (a[0] == "profile") {
       if (a.size() < 3) throw std::invalid_argument("usage: thresh_quads profile NAME SET [MAX]");
       std::vector<cv::Mat> images;
