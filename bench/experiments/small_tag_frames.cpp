@@ -12,7 +12,7 @@ std::vector<TruthFrame> raytraced(const FrameSource& src) {
   SweepSettings s;
   s.trials = src.count;
   s.seed = src.seed;
-  s.detectors = {"tagbench-full"};
+  s.detectors = {"tagbench-paper"};
   if (src.kind == "distance") {
     s.experiment = Experiment::kDistance;
     s.steps = src.steps;

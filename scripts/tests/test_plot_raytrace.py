@@ -27,7 +27,7 @@ class PlotRaytrace(unittest.TestCase):
         cls.tmp = tempfile.mkdtemp(prefix="test_plot_raytrace.")
         cls.sweep = os.path.join(cls.tmp, "sweep")
         subprocess.run([BIN, "raytrace", "distance", "--trials", "2", "--distances", "2,25", "--detectors",
-                        "tagbench-full,aruco", "--processes", "1", "--cache", os.path.join(cls.tmp, "cache"),
+                        "tagbench-paper,aruco", "--processes", "1", "--cache", os.path.join(cls.tmp, "cache"),
                         "--out", cls.sweep], check=True, capture_output=True)
 
     @classmethod
