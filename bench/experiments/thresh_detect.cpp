@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 
 #include "codes/families.hpp"
+#include "detect/detector.hpp"
 #include "detect/homography.hpp"
 
 namespace tagbench::experiments {
@@ -72,7 +73,15 @@ std::vector<Found> decode_quads(const std::vector<Quad>& quads, const ImageF& gr
 }
 
 ThreshDetector::ThreshDetector(std::string name, ThreshDetectorOptions opt)
-    : Comparator(std::move(name)), opt_(std::move(opt)), family_(load_family(opt_.family)) {}
+    : Comparator(std::move(name)), opt_(std::move(opt)), family_(load_family(opt_.family)) {
+  if (opt_.with_paper_quads) {
+    DetectorOptions o;
+    o.families = {opt_.family};
+    paper_ = std::make_unique<Detector>(o);
+  }
+}
+
+ThreshDetector::~ThreshDetector() = default;
 
 std::vector<Found> ThreshDetector::detect(const cv::Mat& gray8) {
   using Clock = std::chrono::steady_clock;
@@ -80,6 +89,15 @@ std::vector<Found> ThreshDetector::detect(const cv::Mat& gray8) {
   to_float_image(gray8, gray_, colour_);
   auto t1 = Clock::now();
   find_threshold_quads(gray_, opt_.quads, ws_, quads_, &stats_.quads);
+  if (opt_.second_pass) {
+    find_threshold_quads(gray_, *opt_.second_pass, ws2_, quads2_);
+    quads_.insert(quads_.end(), quads2_.begin(), quads2_.end());
+  }
+  if (paper_) {
+    DetectorTrace trace;
+    paper_->detect(gray_, &trace);
+    quads_.insert(quads_.end(), trace.quads.begin(), trace.quads.end());
+  }
   auto t2 = Clock::now();
   auto out = decode_quads(quads_, gray_, family_, opt_.max_hamming, opt_.payload);
   auto t3 = Clock::now();

@@ -5,12 +5,15 @@
 // read_payload -> family decode -> duplicate suppression, the decode half exactly as
 // detect/detector.cpp's run() does it (same rules, same defaults), so the two candidate stages are
 // compared with everything after them equal. Also a Comparator, so it times like the others.
+#include <memory>
+#include <optional>
 #include <string>
 
 #include <opencv2/core.hpp>
 #include <vector>
 
 #include "codes/tag_family.hpp"
+#include "detect/detector.hpp"
 #include "detect/payload_decode.hpp"
 #include "detect/threshold_quads.hpp"
 #include "raytrace/comparators.hpp"
@@ -21,6 +24,12 @@ struct ThreshDetectorOptions {
   std::string family = "36h11";
   int max_hamming = 1;  // as DetectorOptions
   ThresholdQuadOptions quads;
+  // A second candidate pass with these options (e.g. the half-size image, whose wider window copes
+  // with defocus), its quads added to the first pass's before decoding; duplicates merge in decode.
+  std::optional<ThresholdQuadOptions> second_pass;
+  // Also add the paper's gradient quads (detect/detector.hpp through its trace: for recall
+  // experiments only, the trace copies make its time meaningless).
+  bool with_paper_quads = false;
   PayloadOptions payload;
 };
 
@@ -32,6 +41,7 @@ struct ThreshFrameStats {
 class ThreshDetector final : public Comparator {
  public:
   ThreshDetector(std::string name, ThreshDetectorOptions opt);
+  ~ThreshDetector() override;
   const ThreshFrameStats& last_stats() const { return stats_; }
   const std::vector<Quad>& last_quads() const { return quads_; }
 
@@ -41,8 +51,9 @@ class ThreshDetector final : public Comparator {
   TagFamily family_;
   ImageF gray_;
   cv::Mat colour_;
-  ThresholdQuadWorkspace ws_;
-  std::vector<Quad> quads_;
+  ThresholdQuadWorkspace ws_, ws2_;
+  std::vector<Quad> quads_, quads2_;
+  std::unique_ptr<Detector> paper_;
   ThreshFrameStats stats_;
 };
 

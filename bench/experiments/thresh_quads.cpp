@@ -5,14 +5,17 @@
 //   thresh_quads small N [FAMILY [DETECTORS]]      make_scene drawn at 5x, INTER_AREA down, noise, JPEG q75
 //   thresh_quads realistic-blurS N ...             the same with every frame's defocus sigma = S px
 //   thresh_quads defocusS N ...                    make_scene 640x480 (tags 38-120 px) blurred with sigma S
-//     DETECTORS: comma-separated; thresh-{full,half}[-norefine][-blurS] or a make_comparator name
+//     DETECTORS: comma-separated; thresh-{full,half}[-norefine][-blurS][-tileN][-contrastC][-minpixP][-dual][-paper]
+//     (C on 0..255; -dual adds a half-size pass, -paper the paper's gradient quads) or a make_comparator name
 //   thresh_quads speed REPS [DIR [MAX [DIR2 ...]]]  ms per image (median of REPS, detectors alternating):
 //                                        synthetic scenes, realistic frames, then MAX images of each folder
 //   thresh_quads natural DIR [MAX [FULL HALF]]  candidate quads and 16h5 false detections per natural image
+//   thresh_quads diff DIR MAX OURS REF   OURS' misses against REF, split into candidate and decode losses
 //   thresh_quads profile NAME SET [MAX]  one detector once over SET (synthetic, realistic or a folder): for
 //                                        valgrind --tool=callgrind (instruction counts) or perf
 // Results are printed as tables (an experiment log, not a results/ CSV). Seeds are fixed and printed.
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -82,6 +85,11 @@ std::vector<std::unique_ptr<Comparator>> detectors(const std::string& family, co
         o.quads.threshold.min_contrast = std::stof(n.substr(b + 9)) / 255.0f;
       if (const auto b = n.find("-minpix"); b != std::string::npos)
         o.quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(std::stoul(n.substr(b + 7)));
+      if (n.find("-dual") != std::string::npos) {  // + the same at half size
+        o.second_pass = o.quads;
+        o.second_pass->halve = true;
+      }
+      o.with_paper_quads = n.find("-paper") != std::string::npos;
       v.push_back(std::make_unique<ThreshDetector>(n, o));
     } else {
       v.push_back(make_comparator(n, setup));
@@ -407,6 +415,41 @@ int main(int argc, char** argv) {
         found += out.found.size();
       }
       std::printf("%s on %zu images: %zu found, %.2f ms/image\n", a[1].c_str(), images.size(), found, ms / images.size());
+    } else if (a[0] == "diff") {  // diff DIR MAX OURS REF: where REF finds a tag OURS does not, was there a candidate quad?
+      if (a.size() < 5) throw std::invalid_argument("usage: thresh_quads diff DIR MAX OURS REF");
+      auto dets = detectors("36h11", {a[3], a[4]});
+      auto& ours = dynamic_cast<ThreshDetector&>(*dets[0]);
+      int missed = 0, with_quad = 0, extra = 0;
+      for (const auto& file : image_files(a[1], std::stoul(a[2]))) {
+        const cv::Mat im = cv::imread(file, cv::IMREAD_GRAYSCALE);
+        if (im.empty()) continue;
+        const auto mine = dets[0]->run(im).found;
+        const auto ref = dets[1]->run(im).found;
+        auto has = [](const std::vector<Found>& v, const Found& f) {
+          for (const auto& g : v)
+            if (g.id == f.id && (centre(g.corners) - centre(f.corners)).norm() < 3) return true;
+          return false;
+        };
+        for (const auto& f : ref) {
+          if (has(mine, f)) continue;
+          ++missed;
+          const double side = std::sqrt(quad_area(f.corners));
+          double smin = 1e9, smax = 0;
+          for (std::size_t i = 0; i < 4; ++i) {
+            const double l = (f.corners[(i + 1) % 4] - f.corners[i]).norm();
+            smin = std::min(smin, l), smax = std::max(smax, l);
+          }
+          if (std::getenv("THRESH_DIFF_VERBOSE")) std::printf("  missed: sqrt(area) %.1f px, shortest/longest side %.2f  %s\n", side, smin / smax, file.c_str());
+          for (const Quad& q : ours.last_quads())
+            if (same_quad(q.corners, f.corners, std::max(1.0, 0.08 * side))) {
+              ++with_quad;
+              break;
+            }
+        }
+        for (const auto& f : mine) extra += !has(ref, f);
+      }
+      std::printf("%s misses %d of %s's detections (a candidate quad was there for %d: decode lost them); finds %d %s does not\n",
+                  a[3].c_str(), missed, a[4].c_str(), with_quad, extra, a[4].c_str());
     } else if (a[0] == "natural") {
       natural_table(load_gray(image_files(a[1], a.size() > 2 ? std::stoul(a[2]) : 200)), a.size() > 3 ? a[3] : "thresh-full",
                     a.size() > 4 ? a[4] : "thresh-half");
