@@ -15,7 +15,7 @@ TEST(SmallTagPipeline, PaperVariantIsTheDetector) {
   for (const std::uint32_t seed : {3u, 8u}) {
     const Scene scene = make_scene(480, 360, "36h11", 5, seed);
     const ImageF gray = to_float_image(scene.image);
-    const Detector detector(DetectorOptions{});
+    const Detector detector(DetectorOptions::paper());
     const auto want = detector.detect(gray);
     const auto got = run_pipeline(gray, builtin_family("36h11"), Variant{});
     ASSERT_EQ(got.detections.size(), want.size()) << seed;
