@@ -26,7 +26,7 @@ cp "$tmp" results/decode_speed.json.tmp && mv results/decode_speed.json.tmp resu
 echo "bench: example detection and the stage pictures of the paper's Figs. 3 and 4" >&2
 mkdir -p results/debug
 "$BIN" scene --width 640 --height 480 --count 6 --seed 3 -o results/example_scene.png
-"$BIN" detect results/example_scene.png --draw results/example_detections.png --debug-dir results/debug \
+"$BIN" detect results/example_scene.png --profile paper --draw results/example_detections.png --debug-dir results/debug \
   --camera 500,500,319.5,239.5 --tag-size 0.1 > results/example_detections.json
 
 echo "bench: detector speed beside libapriltag and OpenCV aruco (Google Benchmark)" >&2

@@ -90,7 +90,9 @@ def speed(d):
                   "Ours / libapriltag", "Candidate quads"], body)
 
 
-RT_NAMES = {"tagbench-full": "ours, full resolution", "tagbench-half": "ours, half resolution",
+RT_NAMES = {"tagbench": "ours (default profile), full resolution", "tagbench-half": "ours (default profile), half resolution",
+            "tagbench-paper": "ours (paper profile), full resolution",
+            "tagbench-paper-half": "ours (paper profile), half resolution",
             "libapriltag-d1": "libapriltag 3.3, decimate 1", "libapriltag-d2": "libapriltag 3.3, decimate 2",
             "aruco": "OpenCV 4.6 aruco"}
 
@@ -163,7 +165,7 @@ def _ext_steps(ext, setting, experiment):
     return out
 
 
-def _ours_steps(summary, detector="tagbench-full"):
+def _ours_steps(summary, detector="tagbench-paper"):
     return {float(r["step"]): dict(r, right_id=r["detected"]) for r in summary if r["detector"] == detector}
 
 
