@@ -49,7 +49,10 @@ TEST(Threshold, FollowsALightingGradient) {
       const float light = 0.2f + 0.7f * x / 63.0f;
       img.at(x, y) = ((x / 8) % 2 == 0) ? light : 0.45f * light;
     }
-  const TernaryImage t = adaptive_threshold(img);
+  ThresholdOptions opt;
+  opt.tile_size = 4;  // 3 x 3 tiles of 4 px span a dark and a light 8 px stripe everywhere
+  opt.min_contrast = 5.0f / 255.0f;
+  const TernaryImage t = adaptive_threshold(img, opt);
   // Every pixel whose 3 x 3-tile window spans a dark and a light stripe (all but the outermost tiles).
   for (int x = 4; x < 60; ++x) EXPECT_EQ(t.at(x, 16), (x / 8) % 2 == 0 ? kTernaryLight : kTernaryDark) << x;
 }
