@@ -13,6 +13,7 @@ namespace fs = std::filesystem;
 struct Settings {
   DetectorOptions det;
   bool csv = false;
+  bool jsonl = false;  // --format jsonl: one JSON line per image (the format tagbench score reads)
   std::optional<fs::path> draw;
   bool draw_is_file = false;
   std::optional<fs::path> debug_dir;

@@ -60,7 +60,11 @@ class Parser {
     if (literal("true")) return JsonValue::make_bool(true);
     if (literal("false")) return JsonValue::make_bool(false);
     if (literal("null")) return JsonValue::make_null();
-    if (c == '-' || (c >= '0' && c <= '9')) return JsonValue::make_number(number());
+    if (c == '-' || (c >= '0' && c <= '9')) {
+      const std::size_t start = i_;
+      const double v = number();
+      return JsonValue::make_number(v, std::string(t_.substr(start, i_ - start)));
+    }
     fail(std::string("unexpected character '") + (c >= 0x20 && c < 0x7f ? std::string(1, c) : "?") + "'");
   }
 
@@ -233,10 +237,11 @@ JsonValue JsonValue::make_bool(bool b) {
   v.bool_ = b;
   return v;
 }
-JsonValue JsonValue::make_number(double x) {
+JsonValue JsonValue::make_number(double x, std::string literal) {
   JsonValue v;
   v.kind_ = Kind::kNumber;
   v.number_ = x;
+  v.string_ = std::move(literal);
   return v;
 }
 JsonValue JsonValue::make_string(std::string s) {
@@ -268,6 +273,15 @@ int JsonValue::integer(const std::string& what) const {
   if (x != std::floor(x) || x < std::numeric_limits<int>::min() || x > std::numeric_limits<int>::max())
     throw JsonError(what + ": expected an integer");
   return static_cast<int>(x);
+}
+
+std::uint64_t JsonValue::uint64(const std::string& what) const {
+  number(what);
+  std::uint64_t v = 0;
+  const auto r = std::from_chars(string_.data(), string_.data() + string_.size(), v);
+  if (string_.empty() || r.ec != std::errc() || r.ptr != string_.data() + string_.size())
+    throw JsonError(what + ": expected a whole number from 0 to 2^64 - 1");
+  return v;
 }
 
 bool JsonValue::boolean(const std::string& what) const {

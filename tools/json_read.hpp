@@ -3,6 +3,7 @@
 // (bench/dataset, bench/score). A plain value tree; numbers are doubles read exactly as strtod would
 // (std::from_chars), so a number json_number wrote reads back as the same double.
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -27,6 +28,8 @@ class JsonValue {
   // for the value ("frame 3: t").
   double number(const std::string& what) const;
   int integer(const std::string& what) const;  // a number with no fraction, within int
+  // A non-negative integer read from the number's own digits (a double holds only 53 bits): seeds.
+  std::uint64_t uint64(const std::string& what) const;
   bool boolean(const std::string& what) const;
   const std::string& string(const std::string& what) const;
   const std::vector<JsonValue>& array(const std::string& what) const;
@@ -37,7 +40,7 @@ class JsonValue {
 
   static JsonValue make_null() { return {}; }
   static JsonValue make_bool(bool b);
-  static JsonValue make_number(double v);
+  static JsonValue make_number(double v, std::string literal = {});
   static JsonValue make_string(std::string s);
   static JsonValue make_array(std::vector<JsonValue> v);
   static JsonValue make_object(std::vector<std::pair<std::string, JsonValue>> m);
@@ -46,7 +49,7 @@ class JsonValue {
   Kind kind_ = Kind::kNull;
   bool bool_ = false;
   double number_ = 0;
-  std::string string_;
+  std::string string_;  // a string's value; a number's literal text
   std::vector<JsonValue> array_;
   std::vector<std::pair<std::string, JsonValue>> object_;  // in document order; a repeated key is an error
 };

@@ -32,6 +32,10 @@ TEST(JsonRead, NumbersWrittenByJsonNumberReadBackExactly) {
   for (const double x : {0.1, 1.0 / 3, -199.49999999999997, 6.02214076e23, 5e-324, 0.0}) {
     EXPECT_EQ(parse_json(json_number(x)).number("x"), x) << json_number(x);
   }
+  EXPECT_EQ(parse_json("18446744073709551615").uint64("seed"), 18446744073709551615ULL);
+  EXPECT_EQ(parse_json("9007199254740993").uint64("seed"), 9007199254740993ULL);  // not a double
+  EXPECT_THROW(parse_json("-1").uint64("seed"), JsonError);
+  EXPECT_THROW(parse_json("1.5").uint64("seed"), JsonError);
   EXPECT_EQ(parse_json(json_string("a\x01\"b")).string("s"), "a\x01\"b");
 }
 
