@@ -21,7 +21,8 @@ const char* const kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--
 Detects tags in every input and prints the detections on stdout, in input order.
 Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted to gray), directories
 (searched recursively, image extensions only, sorted), videos (.mp4 .avi .mkv .mov .webm .m4v .mpg
-.mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0).
+.mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0); a lone '-': the
+paths are read from stdin, one a line (how the experiments run an external detector).
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
   --max-hamming K      payload bits corrected at most, 0..16 (default 1)
   --min-margin M       drop detections whose decision_margin is below M, 0..1 (default 0: keep all,

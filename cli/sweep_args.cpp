@@ -1,5 +1,6 @@
 #include "cli/sweep_args.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 
@@ -11,7 +12,7 @@ std::vector<OptionSpec> sweep_option_specs() {
   return {{"trials"}, {"tag-size"}, {"seed"}, {"family"}, {"scene"}, {"distance"}, {"angles"}, {"distances"}, {"conditions"}};
 }
 
-std::vector<std::string> split_list(const std::string& option, const std::string& s) {
+std::vector<std::string> split_items(const std::string& option, const std::string& s) {
   std::vector<std::string> out;
   std::string cur;
   for (const char c : s + ",") {
@@ -30,7 +31,7 @@ namespace {
 
 std::vector<double> number_list(const std::string& option, const std::string& s) {
   std::vector<double> v;
-  for (const auto& item : split_list(option, s)) v.push_back(parse_double(option, item, -1e300, 1e300));
+  for (const auto& item : split_items(option, s)) v.push_back(parse_double(option, item, -1e300, 1e300));
   return v;
 }
 
@@ -63,7 +64,7 @@ SweepSettings parse_sweep_settings(const std::string& name, const Args& a, const
   try {
     if (a.has("conditions")) {
       if (s.experiment != Experiment::kConditions) throw UsageError("--conditions belongs to the conditions sweep");
-      for (const auto& c : split_list("--conditions", *a.get("conditions"))) s.conditions.push_back(parse_condition(c));
+      for (const auto& c : split_items("--conditions", *a.get("conditions"))) s.conditions.push_back(parse_condition(c));
     }
     if (a.has("scene")) s.scene = parse_scene(*a.get("scene"));
     s = resolve_settings(s);
@@ -72,6 +73,35 @@ SweepSettings parse_sweep_settings(const std::string& name, const Args& a, const
     throw UsageError(e.what());
   }
   return s;
+}
+
+void parse_detector_list(const std::string& option, const std::string& list, double external_timeout,
+                         SweepSettings& s) {
+  const auto& known = comparator_names();
+  std::vector<std::string> items;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = list.find(',', start);
+    std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const bool starts_item = item.rfind("external:", 0) == 0 || std::find(known.begin(), known.end(), item) != known.end();
+    if (!items.empty() && items.back().rfind("external:", 0) == 0 && !starts_item) items.back() += "," + item;
+    else items.push_back(item);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  for (const auto& item : items) {
+    if (item.empty()) throw UsageError(option + ": empty item in '" + list + "'");
+    if (item.rfind("external:", 0) == 0) {
+      try {
+        s.external.push_back(parse_external_detector(item.substr(9), external_timeout));
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(option + ": " + e.what());
+      }
+      s.detectors.push_back(s.external.back().name);
+    } else {
+      s.detectors.push_back(item);
+    }
+  }
 }
 
 void check_out_folder(const std::string& option, const std::string& out_text) {

@@ -20,7 +20,13 @@ bench::SweepSettings parse_sweep_settings(const std::string& name, const Args& a
                                           const std::vector<std::string>& detectors = {});
 
 // "a,b,c" -> {"a", "b", "c"}; an empty item is a UsageError naming the option.
-std::vector<std::string> split_list(const std::string& option, const std::string& s);
+std::vector<std::string> split_items(const std::string& option, const std::string& s);
+
+// --detectors LIST: built-in names and external:NAME=COMMAND items (a COMMAND runs to the next item
+// that is a built-in name or another external:, so it may hold commas), into settings.detectors and
+// settings.external (with the timeout of --external-timeout). UsageError for a malformed item.
+void parse_detector_list(const std::string& option, const std::string& list, double external_timeout,
+                         bench::SweepSettings& settings);
 
 // Refuses (UsageError) an --out that is, or would lie under, something other than a folder.
 void check_out_folder(const std::string& option, const std::string& out);

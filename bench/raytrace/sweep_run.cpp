@@ -8,6 +8,7 @@
 
 #include "codes/families.hpp"
 #include "raytrace/sweep_detail.hpp"
+#include "raytrace/sweep_external.hpp"
 #include "raytrace/sweeps.hpp"
 
 namespace tagbench::bench {
@@ -25,7 +26,8 @@ DetectorSet make_detectors(const SweepSettings& s, std::optional<double> k1) {
   setup.tag_size = *s.tag_size;
   if (k1) setup.distortion = std::array<double, 5>{*k1, 0, 0, 0, 0};
   DetectorSet set;
-  for (const auto& name : s.detectors) set.push_back(make_comparator(name, setup));
+  for (const auto& name : s.detectors)
+    if (!find_external(s, name)) set.push_back(make_comparator(name, setup));  // the built-in ones, in order
   return set;
 }
 
@@ -89,6 +91,16 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
                              " frames rendered: " + res.failed.front().error);
 
   const auto t0 = std::chrono::steady_clock::now();
+  // The external detectors first, each once on all the frames: a failure leaves no rows at all.
+  const std::vector<std::vector<DetectorOutput>> external = run_external_detectors(s, res.frames, report);
+  // Where each detector's output is: the index into the built-in set's outputs, or into `external`.
+  std::vector<std::pair<bool, std::size_t>> source;
+  for (std::size_t k = 0, builtin = 0; k < s.detectors.size(); ++k) {
+    if (const ExternalDetector* e = find_external(s, s.detectors[k]))
+      source.emplace_back(true, static_cast<std::size_t>(e - s.external.data()));
+    else
+      source.emplace_back(false, builtin++);
+  }
   const int saved_threads = cv::getNumThreads();
   cv::setNumThreads(1);
   struct Restore {
@@ -129,7 +141,10 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
       if (unmodified) outputs = &plain_outputs.emplace(png, std::move(fresh)).first->second;
       else outputs = &fresh;
     }
-    for (std::size_t k = 0; k < s.detectors.size(); ++k) res.rows.push_back(row_of((*outputs)[k], s.detectors[k], i, f));
+    for (std::size_t k = 0; k < s.detectors.size(); ++k) {
+      const auto [is_external, j] = source[k];
+      res.rows.push_back(row_of(is_external ? external[j][i] : (*outputs)[j], s.detectors[k], i, f));
+    }
     ++done;
     if (progress.detect) progress.detect(done, total);
   }

@@ -23,21 +23,10 @@
 #include <Eigen/Core>
 
 #include "dataset/dataset.hpp"
+#include "external/detection_lines.hpp"
 #include "raytrace/comparators.hpp"
 
 namespace tagbench::bench {
-
-// One image's line.
-struct ImageDetections {
-  std::string image;       // as the line gives it
-  std::size_t line = 0;    // 1-based, for messages
-  std::vector<Found> found;  // as given (the detector's own convention)
-  double ms = std::numeric_limits<double>::quiet_NaN();
-  std::string error;       // the detector's own error for this image, when it gave one
-};
-
-// Parses JSON lines (blank lines skipped). Throws std::runtime_error "SOURCE line N: what is wrong".
-std::vector<ImageDetections> parse_detection_lines(const std::string& text, const std::string& source);
 
 // How a detector's numbers relate to ours.
 struct Convention {
