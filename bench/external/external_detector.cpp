@@ -61,6 +61,7 @@ std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::
   std::vector<ImageDetections> got(images.size());
   std::vector<bool> have(images.size(), false);
   std::string bad;  // the first bad line's message
+  bool bad_names_image = false;
   std::size_t start = 0, line = 0;
   while (start < text.size() && bad.empty()) {
     std::size_t end = text.find('\n', start);
@@ -87,6 +88,7 @@ std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::
       }
       if (!det.error.empty()) {
         bad = who + ": image '" + det.image + "': " + det.error;
+        bad_names_image = true;
         break;
       }
       have[it->second] = true;
@@ -116,7 +118,8 @@ std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::
     throw std::runtime_error(who + ": " + why + " at image '" + first_image + "'" +
                              (tail.empty() ? "" : " (its last message: " + tail + ")"));
   }
-  if (!bad.empty()) throw std::runtime_error(bad + " (first image without a valid line: '" + first_image + "')");
+  if (!bad.empty())
+    throw std::runtime_error(bad_names_image ? bad : bad + " (first image without a valid line: '" + first_image + "')");
   if (missing)
     throw std::runtime_error(who + ": no line for image '" + first_image + "' (" + std::to_string(missing) + " of " +
                              std::to_string(images.size()) + " images left out)");
