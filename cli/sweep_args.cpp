@@ -77,7 +77,12 @@ SweepSettings parse_sweep_settings(const std::string& name, const Args& a, const
 
 void parse_detector_list(const std::string& option, const std::string& list, double external_timeout,
                          SweepSettings& s) {
-  const auto& known = comparator_names();
+  parse_detector_list(option, list, external_timeout, s.detectors, s.external);
+}
+
+void parse_detector_list(const std::string& option, const std::string& list, double external_timeout,
+                         std::vector<std::string>& detectors, std::vector<ExternalDetector>& external) {
+  const auto& known = known_comparator_names();
   std::vector<std::string> items;
   std::size_t start = 0;
   while (true) {
@@ -93,13 +98,13 @@ void parse_detector_list(const std::string& option, const std::string& list, dou
     if (item.empty()) throw UsageError(option + ": empty item in '" + list + "'");
     if (item.rfind("external:", 0) == 0) {
       try {
-        s.external.push_back(parse_external_detector(item.substr(9), external_timeout));
+        external.push_back(parse_external_detector(item.substr(9), external_timeout));
       } catch (const std::invalid_argument& e) {
         throw UsageError(option + ": " + e.what());
       }
-      s.detectors.push_back(s.external.back().name);
+      detectors.push_back(external.back().name);
     } else {
-      s.detectors.push_back(item);
+      detectors.push_back(item);
     }
   }
 }

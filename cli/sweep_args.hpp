@@ -27,6 +27,9 @@ std::vector<std::string> split_items(const std::string& option, const std::strin
 // settings.external (with the timeout of --external-timeout). UsageError for a malformed item.
 void parse_detector_list(const std::string& option, const std::string& list, double external_timeout,
                          bench::SweepSettings& settings);
+// The same into plain lists (tagbench falsepos detectors).
+void parse_detector_list(const std::string& option, const std::string& list, double external_timeout,
+                         std::vector<std::string>& detectors, std::vector<bench::ExternalDetector>& external);
 
 // Refuses (UsageError) an --out that is, or would lie under, something other than a folder.
 void check_out_folder(const std::string& option, const std::string& out);

@@ -1,6 +1,7 @@
 // External detectors: the command, its batch, its lines (external_detector.hpp).
 #include "external/external_detector.hpp"
 
+#include <atomic>
 #include <map>
 #include <stdexcept>
 
@@ -124,6 +125,22 @@ std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::
     throw std::runtime_error(who + ": no line for image '" + first_image + "' (" + std::to_string(missing) + " of " +
                              std::to_string(images.size()) + " images left out)");
   return got;
+}
+
+std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::vector<std::string>& images) {
+  static std::atomic<int> counter{0};
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("tagbench-external-" + owner_tag() + "-run" + std::to_string(counter++));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  struct Remove {
+    std::filesystem::path p;
+    ~Remove() {
+      std::error_code ec;
+      std::filesystem::remove_all(p, ec);
+    }
+  } remove{dir};
+  return run_external(d, images, dir);
 }
 
 }  // namespace tagbench::bench

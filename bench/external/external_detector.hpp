@@ -33,4 +33,7 @@ ExternalDetector parse_external_detector(const std::string& spec, double timeout
 std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::vector<std::string>& images,
                                           const std::filesystem::path& workdir);
 
+// The same in a temporary folder of its own (under the system's), removed afterwards.
+std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::vector<std::string>& images);
+
 }  // namespace tagbench::bench
