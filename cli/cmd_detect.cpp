@@ -137,8 +137,10 @@ class Processor {
       const bool debug = s_.debug_dir.has_value();
       DetectorTrace trace;
       const auto t0 = std::chrono::steady_clock::now();
-      o.detections = detect(det_, img, ws, debug ? &trace : nullptr);
+      o.detections = detect(det_, img, ws, debug || !s_.explain.empty() ? &trace : nullptr);
       o.detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+      for (const ExplainPoint& p : s_.explain) o.explained.push_back(explain_point(p, trace, o.detections, det_));
 
       // Pictures: everything encoded first, then written (each atomically); on a failure the
       // pictures already written for this input are removed, so a failed input leaves nothing.
@@ -154,7 +156,8 @@ class Processor {
       if (debug) {
         const auto pics = stage_pictures(to_float_image(img), trace, o.detections, det_);
         for (std::size_t i = 0; i < pics.size(); ++i)
-          files.emplace_back(*s_.debug_dir / (job.out_name + "_" + kStages[i] + ".png"), encode(pics[i], ".png"));
+          if (!pics[i].empty())
+            files.emplace_back(*s_.debug_dir / (job.out_name + "_" + kStages[i] + ".png"), encode(pics[i], ".png"));
       }
       for (const auto& [path, bytes] : files) {
         make_parent(path);
@@ -323,10 +326,12 @@ int cmd_detect(const Words& words) {
                        {"distortion"},
                        {"tag-size"},
                        {"half-res", false},
+                       {"profile"},
                        {"format"},
                        {"draw"},
                        {"debug-dir"},
-                       {"threads"}});
+                       {"threads"},
+                       {"explain", true, true}});
   if (a.positionals().empty()) throw UsageError("no input given (images, directories or videos)");
   Settings s = parse_settings(a);
   std::vector<std::string> inputs = a.positionals();

@@ -16,13 +16,16 @@ namespace fs = std::filesystem;
 
 const char* const kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
                        [--min-margin M] [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
-                       [--format json|jsonl|csv] [--draw OUT] [--debug-dir DIR] [--threads T]
+                       [--profile default|paper] [--format json|jsonl|csv] [--draw OUT] [--debug-dir DIR]
+                       [--threads T] [--explain X,Y[,FAMILY:ID]]...
 
 Detects tags in every input and prints the detections on stdout, in input order.
 Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted to gray), directories
 (searched recursively, image extensions only, sorted), videos (.mp4 .avi .mkv .mov .webm .m4v .mpg
 .mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0); a lone '-': the
 paths are read from stdin, one a line (how the experiments run an external detector).
+  --profile P          default (the default profile: threshold quads, refined edges, cells read over
+                       their area) or paper (the 2011 paper's detector exactly, sections III-IV)
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
   --max-hamming K      payload bits corrected at most, 0..16 (default 1)
   --min-margin M       drop detections whose decision_margin is below M, 0..1 (default 0: keep all,
@@ -32,7 +35,7 @@ paths are read from stdin, one a line (how the experiments run an external detec
   --distortion k1,k2,p1,p2[,k3]
                        OpenCV lens distortion; needs --camera (corners are undistorted for the pose)
   --tag-size M         edge of the black square in metres (> 0); needs --camera
-  --half-res           segment at half resolution (the paper's faster option)
+  --half-res           find quads at half resolution (the paper's faster option)
   --format json|jsonl|csv
                        output format (default json; jsonl: a line per image, below)
   --draw OUT           draw the detections like the paper's Fig. 1 (outline, printed top-left corner
@@ -43,10 +46,21 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        video frames: <name>_frameN.png)
   --debug-dir DIR      the stages of the paper's Figs. 3 and 4 as DIR/<name>_<stage>.png, stages
                        gradient_magnitude, gradient_direction, clusters (at the segmentation's
-                       resolution: half size with --half-res), segments (notch toward the light side),
+                       resolution: half size with --half-res), segments (notch toward the light side)
+                       (these four with --profile paper only: the default profile has no gradients),
                        quads (every candidate; dot on its first corner), samples (the detected tags'
                        sample points: white ring white, black ring black, payload yellow)
   --threads T          images processed in parallel (default: all cores); output order is input order
+  --explain X,Y[,FAMILY:ID]
+                       why no tag was reported at pixel (X, Y) of each image (repeatable): the stage
+                       where it was lost, from the detection's trace. A detection whose quad holds the
+                       point: "detected". Else the candidate quad holding it that got furthest:
+                       quad_rejected (border pre-filter, degenerate corners, cells not readable),
+                       misread (read, not decoded within --max-hamming), below_margin, duplicate; with
+                       FAMILY:ID (the tag you expect there) also wrong_id and the bits of its code read
+                       wrong. No quad holds it: no_quad (segments within 50 px), no_segment (gradient
+                       clusters within 50 px), no_cluster. JSON: an "explain" list in each image (below);
+                       CSV: one line per point on stderr, "tagbench detect: INPUT: explain X,Y: STAGE: text"
 
 Errors: an input that cannot be read (missing, unreadable, 0 bytes, corrupt) prints one line on stderr
 naming it, the other inputs are still processed, and the exit status is 1. Bad options exit with 2.
@@ -55,7 +69,7 @@ a failed input.
 
 JSON output (one document for the whole run):
   {"tool": "tagbench detect",
-   "options": {"families": [names], "max_hamming": K, "min_decision_margin": M, "half_res": bool,
+   "options": {"families": [names], "profile": "default" or "paper", "max_hamming": K, "min_decision_margin": M, "half_res": bool,
                "camera": [fx,fy,cx,cy] or null, "distortion": [k1,k2,p1,p2,k3] or null,
                "tag_size": metres or null},
    "images": [{"input": path or "video#frameN", "frame": N (videos only), "width": W, "height": H,
@@ -67,7 +81,9 @@ JSON output (one document for the whole run):
                                "pose": {"R": [[3] x3], "t": [x,y,z], "reprojection_rms_px"}  (with --camera),
                                "pose_alternative": {same}  (when the planar ambiguity has a 2nd solution),
                                "timings_ms": {"blur","gradient","segmentation","line_fit","quads",
-                                              "decode","pose","total"} (of the frame)}]}],
+                                              "decode","pose","total"} (of the frame)}],
+               "explain": [{"at": [x,y], "given": "X,Y[,FAMILY:ID]", "stage", "bits_wrong": n or null,
+                            "quad": index or null, "text"}]  (with --explain only)}],
    "errors": [{"input": path, "error": message}]}
 Pixel centres are at integer coordinates; camera frame x right, y down, z forward; tag frame origin at
 the centre, x right, y down (as printed), z into the tag; X_cam = R X_tag + t (metres).
@@ -112,6 +128,11 @@ std::vector<double> parse_list(const std::string& option, const std::string& tex
 
 Settings parse_settings(const Args& a) {
   Settings s;
+  s.profile = a.get_or("profile", "default");
+  if (s.profile == "paper")
+    s.det = DetectorOptions::paper();
+  else if (s.profile != "default")
+    throw UsageError("--profile " + s.profile + ": expected paper or default");
   if (a.has("family")) s.det.families = a.all("family");
   s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));
   if (const auto m = a.get("min-margin")) s.det.min_decision_margin = parse_double("--min-margin", *m, 0, 1);
@@ -154,6 +175,7 @@ Settings parse_settings(const Args& a) {
     if (fs::exists(*s.debug_dir, ec) && !fs::is_directory(*s.debug_dir, ec))
       throw UsageError("--debug-dir " + *d + ": exists and is not a directory");
   }
+  for (const auto& e : a.all("explain")) s.explain.push_back(parse_explain_point(e));
   if (const auto d = a.get("draw")) {
     if (d->empty()) throw UsageError("--draw: empty path");
     s.draw = fs::path(*d);

@@ -2,8 +2,12 @@
 // tagbench detect: its options (the command line into Settings) and its --help text.
 #include <filesystem>
 #include <optional>
+#include <string>
+
+#include <vector>
 
 #include "cli/args.hpp"
+#include "cli/detect_explain.hpp"
 #include "detect/detector.hpp"
 
 namespace tagbench::cli::detect_cmd {
@@ -11,6 +15,7 @@ namespace tagbench::cli::detect_cmd {
 namespace fs = std::filesystem;
 
 struct Settings {
+  std::string profile = "default";  // "default" or "paper" (--profile)
   DetectorOptions det;
   bool csv = false;
   bool jsonl = false;  // --format jsonl: one JSON line per image (the format tagbench score reads)
@@ -18,6 +23,7 @@ struct Settings {
   bool draw_is_file = false;
   std::optional<fs::path> debug_dir;
   int threads = 1;
+  std::vector<ExplainPoint> explain;  // --explain X,Y[,FAMILY:ID], repeatable
 };
 
 // The --help text (also the documentation of the JSON and CSV output).

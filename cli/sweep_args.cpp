@@ -88,7 +88,7 @@ void parse_detector_list(const std::string& option, const std::string& list, dou
   while (true) {
     const std::size_t comma = list.find(',', start);
     std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    const bool starts_item = item.rfind("external:", 0) == 0 || std::find(known.begin(), known.end(), item) != known.end();
+    const bool starts_item = item.rfind("external:", 0) == 0 || std::find(known.begin(), known.end(), item) != known.end() || is_ours_variant(item);
     if (!items.empty() && items.back().rfind("external:", 0) == 0 && !starts_item) items.back() += "," + item;
     else items.push_back(item);
     if (comma == std::string::npos) break;

@@ -28,7 +28,8 @@ std::string rows_csv(const SweepResult& r) {
   std::string o =
       "experiment,condition,step,step_unit,trial,seed,id,scene,family,tag_size_m,distance_m,phi_deg,tilt_axis_deg,"
       "roll_deg,image_x,image_y,black_square_px,detector,detected_right_id,wrong_id,orientation_error_deg,"
-      "distance_error_m,distance_error_percent,corner_rms_px,decision_margin,ms\n";
+      "distance_error_m,distance_error_percent,corner_rms_px,decision_margin,ms" +
+      loss_header() + "\n";
   for (const SweepRow& row : r.rows) {
     const SweepFrame& f = r.frames[row.frame];
     o += std::string(experiment_name(s.experiment)) + "," + condition_name(f.condition) + "," +
@@ -41,7 +42,7 @@ std::string rows_csv(const SweepResult& r) {
          row.detector + "," + (row.detected_right_id ? "1" : "0") + "," + (row.wrong_id ? "1" : "0") + "," +
          format_cell(row.orientation_error_deg, "%.6g") + "," + format_cell(row.distance_error_m, "%.6g") + "," +
          format_cell(row.distance_error_percent, "%.6g") + "," + format_cell(row.corner_rms_px, "%.6g") + "," +
-         format_cell(row.decision_margin, "%.6g") + "," + format_cell(row.ms, "%.4f") + "\n";
+         format_cell(row.decision_margin, "%.6g") + "," + format_cell(row.ms, "%.4f") + loss_cells(row.loss) + "\n";
   }
   return o;
 }
@@ -53,7 +54,8 @@ std::string summary_csv(const SweepResult& r, const std::vector<SummaryRow>& sum
       "orientation_error_deg_median,orientation_error_deg_p10,orientation_error_deg_p90,"
       "distance_error_m_median,distance_error_m_p10,distance_error_m_p90,"
       "distance_error_percent_median,distance_error_percent_p10,distance_error_percent_p90,"
-      "corner_rms_px_median,corner_rms_px_p10,corner_rms_px_p90,ms_median\n";
+      "corner_rms_px_median,corner_rms_px_p10,corner_rms_px_p90,ms_median" +
+      lost_header() + "\n";
   const auto st = [](const ErrorStats& e) {
     return format_cell(e.median, "%.6g") + "," + format_cell(e.p10, "%.6g") + "," + format_cell(e.p90, "%.6g");
   };
@@ -66,7 +68,8 @@ std::string summary_csv(const SweepResult& r, const std::vector<SummaryRow>& sum
          "," + format_cell(s.rate_lo95, "%.6g") + "," + format_cell(s.rate_hi95, "%.6g") + "," +
          std::to_string(s.wrong_id_frames) + "," + format_cell(s.black_square_px_median, "%.4f") + "," +
          st(s.orientation_deg) + "," + st(s.distance_m) + "," + st(s.distance_percent) + "," + st(s.corner_rms_px) +
-         "," + format_cell(s.ms_median, "%.4f") + "\n";
+         "," + format_cell(s.ms_median, "%.4f");
+    o += lost_cells(s.lost) + "\n";
   }
   return o;
 }
@@ -132,7 +135,11 @@ std::string sidecar_json(const SweepResult& r) {
                    "errors of the right-id detection nearest the truth: orientation = the angle of R_est^T R_true, "
                    "distance = | |t_est| - |t_true| | (m and % of |t_true|), corner RMS over the four corners (px); "
                    "ms: the detector's wall time on the frame, one thread; summaries: Wilson 95 % interval, "
-                   "percentiles over the detected frames") +
+                   "percentiles over the detected frames; loss_stage (detectors that can say, ours): for a frame not "
+                   "detected with the right id, the stage where the tag was lost (no_cluster, no_segment, no_quad, "
+                   "quad_rejected, misread, wrong_id, duplicate, below_margin; detect/explain_loss.hpp), found by "
+                   "detecting again with a trace after timing, and loss_bits the bits of the tag's code read wrong "
+                   "(misread, wrong_id); summaries: lost_STAGE, the missed frames per stage") +
        ",\n";
   j += "  \"frames\": " + std::to_string(r.frames.size()) + ", \"distinct_frames\": " +
        std::to_string(r.distinct_frames) + ", \"rendered\": " + std::to_string(r.rendered) +

@@ -128,7 +128,7 @@ SweepSettings resolve_settings(const SweepSettings& in) {
   }
   std::set<std::string> seen;
   for (const auto& d : s.detectors) {
-    if (std::find(known.begin(), known.end(), d) == known.end() && !find_external(s, d)) {
+    if (std::find(known.begin(), known.end(), d) == known.end() && !is_ours_variant(d) && !find_external(s, d)) {
       std::string list;
       for (const auto& n : known) list += (list.empty() ? "" : ", ") + n;
       throw std::invalid_argument("unknown detector '" + d + "' (" + list + ", external:NAME=COMMAND)");

@@ -70,6 +70,15 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
   res.frames = plan_sweep(res.settings);
   const SweepSettings& s = res.settings;
   DetectorSet plain = make_detectors(s, std::nullopt);  // a bad detector setup fails before any rendering
+  std::vector<std::string> builtin_names;  // the built-in detectors, in the order of `plain`
+  for (std::size_t k = 0, b = 0; k < s.detectors.size(); ++k) {
+    if (find_external(s, s.detectors[k])) {
+      res.can_explain.push_back(false);  // an external detector gives no loss stage
+    } else {
+      builtin_names.push_back(s.detectors[k]);
+      res.can_explain.push_back(plain[b++]->can_explain());
+    }
+  }
 
   std::vector<FramePose> poses;
   poses.reserve(res.frames.size());
@@ -108,7 +117,12 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
     ~Restore() { cv::setNumThreads(n); }
   } restore{saved_threads};
   std::map<double, DetectorSet> distorted;             // per k1
-  std::map<std::string, std::vector<DetectorOutput>> plain_outputs;  // an unmodified frame runs once
+  // An unmodified frame runs once (the conditions' zero-strength baselines share their render; same truth).
+  struct FrameRun {
+    std::vector<DetectorOutput> outputs;
+    std::vector<SweepRow> rows;  // with their loss explanations
+  };
+  std::map<std::string, FrameRun> plain_runs;
   std::string gray_path;
   cv::Mat gray;
   const std::size_t total = res.frames.size() - res.failed.size();
@@ -119,12 +133,12 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
     const std::string png = report.frames[i].png.string();
     const bool unmodified = f.effect.strength == 0 || f.effect.condition == Condition::kOcclusion ||
                             f.effect.condition == Condition::kBent;
-    std::vector<DetectorOutput>* outputs = nullptr;
-    std::vector<DetectorOutput> fresh;
+    const FrameRun* run = nullptr;
+    FrameRun fresh;
     if (unmodified) {
-      if (auto it = plain_outputs.find(png); it != plain_outputs.end()) outputs = &it->second;
+      if (auto it = plain_runs.find(png); it != plain_runs.end()) run = &it->second;
     }
-    if (!outputs) {
+    if (!run) {
       if (png != gray_path) {
         gray = read_frame_gray(png);
         gray_path = png;
@@ -137,13 +151,21 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
         if (it == distorted.end()) it = distorted.emplace(k1, make_detectors(s, k1)).first;
         set = &it->second;
       }
-      for (auto& det : *set) fresh.push_back(det->run(image));
-      if (unmodified) outputs = &plain_outputs.emplace(png, std::move(fresh)).first->second;
-      else outputs = &fresh;
+      for (auto& det : *set) fresh.outputs.push_back(det->run(image));
+      // Explanations after every detector has run and been timed: a missed frame is detected again, with a trace.
+      for (std::size_t k = 0; k < set->size(); ++k) {
+        fresh.rows.push_back(row_of(fresh.outputs[k], builtin_names[k], i, f));
+        if (!fresh.rows.back().detected_right_id)
+          fresh.rows.back().loss = (*set)[k]->explain(image, f.frame.family, f.frame.id, f.truth.corners);
+      }
+      if (unmodified) run = &plain_runs.emplace(png, std::move(fresh)).first->second;
+      else run = &fresh;
     }
-    for (std::size_t k = 0; k < s.detectors.size(); ++k) {
+    for (std::size_t k = 0; k < s.detectors.size(); ++k) {  // the detectors' order, external ones in their place
       const auto [is_external, j] = source[k];
-      res.rows.push_back(row_of(is_external ? external[j][i] : (*outputs)[j], s.detectors[k], i, f));
+      SweepRow row = is_external ? row_of(external[j][i], s.detectors[k], i, f) : run->rows[j];
+      row.frame = i;
+      res.rows.push_back(std::move(row));
     }
     ++done;
     if (progress.detect) progress.detect(done, total);

@@ -39,6 +39,8 @@ std::vector<SummaryRow> summarize(const SweepResult& r) {
       a.row.condition = f.condition;
       a.row.step = f.step;
       a.row.detector = row.detector;
+      for (std::size_t k = 0; k < r.settings.detectors.size() && k < r.can_explain.size(); ++k)
+        if (r.settings.detectors[k] == row.detector) a.row.lost.explains = r.can_explain[k];
       groups.push_back(std::move(a));
     }
     Acc& a = groups[it->second];
@@ -46,6 +48,7 @@ std::vector<SummaryRow> summarize(const SweepResult& r) {
     a.px.push_back(f.truth.black_square_px);
     a.ms.push_back(row.ms);
     if (row.wrong_id) ++a.row.wrong_id_frames;
+    a.row.lost.add(row.loss);
     if (!row.detected_right_id) continue;
     ++a.row.detected;
     a.o.push_back(row.orientation_error_deg);

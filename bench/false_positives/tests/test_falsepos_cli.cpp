@@ -116,7 +116,7 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
 
   // Whole detectors: every one of ours and aruco's finds the five tags, nothing else.
   r = run_tagbench("falsepos detectors --corpus " + corpus.string() + " --out " + out.string() +
-                       " --detectors tagbench-full,aruco-default --families 36h11 --jobs 2",
+                       " --detectors tagbench-paper,aruco-default --families 36h11 --jobs 2",
                    s.path());
   ASSERT_EQ(r.code, 0) << r.err;
   const auto det = read_csv(out / "fp_detectors.csv");
@@ -137,7 +137,7 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
   fs::create_directories(s.path() / "bad");
   const std::string mine = std::string(TAGBENCH_BIN) + " detect - --format jsonl --family 36h11";
   r = run_tagbench("falsepos detectors --corpus " + corpus.string() + " --out " + ext.string() +
-                       " --families 36h11 --jobs 2 --detectors 'tagbench-full,external:mine=" + mine + "'",
+                       " --families 36h11 --jobs 2 --detectors 'tagbench,external:mine=" + mine + "'",
                    s.path());
   ASSERT_EQ(r.code, 0) << r.err;
   const auto rows = read_csv(ext / "fp_detections.csv");

@@ -18,6 +18,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "csv_timing.hpp"
 #include "raytrace/render.hpp"
 #include "tools/atomic_file.hpp"
 
@@ -40,7 +41,7 @@ fs::path scratch(const std::string& name) {
 
 // Six frames (two trials at three angles), three detectors: a few seconds of POV-Ray.
 const std::string kSweep = "raytrace angle --trials 2 --angles 0,30,60 --seed 5 "
-                           "--detectors tagbench-full,libapriltag-d1,aruco";
+                           "--detectors tagbench-paper,libapriltag-d1,aruco";
 
 std::string sweep(const fs::path& cache, const fs::path& out, int processes) {
   return kSweep + " --processes " + std::to_string(processes) + " --cache " + cache.string() + " --out " +
@@ -48,12 +49,7 @@ std::string sweep(const fs::path& cache, const fs::path& out, int processes) {
 }
 
 // A CSV without its last column (the timing: ms in the rows, ms_median in the summary).
-std::string without_timing(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string out;
-  for (std::string l; std::getline(in, l);) out += l.substr(0, l.rfind(',')) + "\n";
-  return out;
-}
+std::string without_timing(const std::string& csv) { return tagbench::testing::csv_without_timing(csv); }
 
 // The JSON sidecar without the render report's counts and times, which say how the frames were
 // obtained (rendered, from the cache, in how many povray runs), not what they are.
