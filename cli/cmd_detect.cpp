@@ -84,6 +84,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <iostream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -333,12 +334,19 @@ int cmd_detect(const Words& words) {
                        {"explain", true, true}});
   if (a.positionals().empty()) throw UsageError("no input given (images, directories or videos)");
   Settings s = parse_settings(a);
+  std::vector<std::string> inputs = a.positionals();
+  if (inputs.size() == 1 && inputs[0] == "-") {  // the paths on stdin, one a line (as the experiments' external detectors get them)
+    inputs.clear();
+    for (std::string l; std::getline(std::cin, l);)
+      if (!l.empty()) inputs.push_back(l);
+    if (inputs.empty()) throw UsageError("-: no input paths on stdin");
+  }
 
   // --draw: a picture file for a single image input, a directory otherwise.
   if (s.draw) {
     std::error_code ec;
-    const fs::path in(a.positionals()[0]);
-    const bool single_image = a.positionals().size() == 1 && !fs::is_directory(in, ec) && !is_video_path(in);
+    const fs::path in(inputs[0]);
+    const bool single_image = inputs.size() == 1 && !fs::is_directory(in, ec) && !is_video_path(in);
     s.draw_is_file = single_image && !fs::is_directory(*s.draw, ec);
     if (s.draw_is_file) {
       const std::string ext = lower(s.draw->extension().string());
@@ -354,7 +362,7 @@ int cmd_detect(const Words& words) {
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   cv::setNumThreads(1);  // parallelism is across images; OpenCV's own threads would oversubscribe
 
-  const std::vector<Source> sources = expand_inputs(a.positionals());
+  const std::vector<Source> sources = expand_inputs(inputs);
   const Processor proc(s, detector);
   Sink sink(s, detector);
   sink.begin();

@@ -2,6 +2,7 @@
 // paper's section VI-A, Figs. 6 and 7) and whole detectors' false detections on it.
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include "candidates.hpp"
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
+#include "cli/sweep_args.hpp"
 #include "cli/sweep_progress.hpp"
 #include "codes/families.hpp"
 #include "fp_codes.hpp"
@@ -60,7 +62,10 @@ still, video-frame, group:NAME; false detections per image and per megapixel wit
 intervals, the share of images with one with its Wilson interval, ms per image and Mpx/s),
 DIR/fp_detections.csv (every false detection with its image and corners) and DIR/fp_detectors.json.
   --detectors LIST  comma-separated (default tagbench,tagbench-paper,libapriltag-d2,aruco-default;
-                    also tagbench-half, tagbench-paper-half, libapriltag-d1, aruco)
+                    also tagbench-half, tagbench-paper-half, libapriltag-d1, aruco; external:NAME=COMMAND,
+                    a detector outside the build run once on every readable image, as in tagbench
+                    raytrace --help: its detections count under the family each names)
+  --external-timeout S  seconds an external detector may take for all the images (default 1800)
   --families LIST   comma-separated (default 16h5,25h9,36h11)
 
 margin: beyond the paper, what a minimum decision margin (tagbench detect --min-margin) buys and
@@ -211,18 +216,24 @@ FpDetectorsRun fp_detectors_with_progress(const std::string& corpus_dir, std::ve
 }
 
 int falsepos_detectors(const Words& w) {
-  const Args a(w, {{"corpus"}, {"out"}, {"detectors"}, {"families"}, {"jobs"}});
+  const Args a(w, {{"corpus"}, {"out"}, {"detectors"}, {"families"}, {"jobs"}, {"external-timeout"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   const auto dir = out_dir(a);
   const std::string corpus_dir = corpus_arg(a);
   FpDetectorsOptions o;
   o.jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
-  if (auto v = a.get("detectors")) o.detectors = split_commas(*v);
+  if (auto v = a.get("detectors")) {
+    o.detectors.clear();
+    parse_detector_list("--detectors", *v, a.get_double("external-timeout", 1800, 1e-3, 1e9), o.detectors, o.external);
+  } else if (a.has("external-timeout")) {
+    throw UsageError("--external-timeout: no external detector (--detectors ...,external:NAME=COMMAND)");
+  }
   if (auto v = a.get("families")) o.families = split_commas(*v);
   if (o.detectors.empty()) throw UsageError("--detectors: empty list");
   if (o.families.empty()) throw UsageError("--families: empty list");
   for (const auto& d : o.detectors)
     for (const auto& f : o.families) try {
+        if (std::any_of(o.external.begin(), o.external.end(), [&](const auto& e) { return e.name == d; })) continue;
         ComparatorSetup s;
         s.family = f;
         make_comparator(d, s);
@@ -253,6 +264,12 @@ int falsepos_detectors(const Words& w) {
         "    \"aruco-default\": \"OpenCV 4.6 aruco DICT_APRILTAG_*, DetectorParameters defaults\"\n  },\n"
      << "  \"run\": [";
   for (std::size_t i = 0; i < o.detectors.size(); ++i) js << (i ? ", " : "") << json_string(o.detectors[i]);
+  if (!o.external.empty()) {  // only then: the built-in runs' sidecars keep their bytes
+    js << "],\n  \"external\": [";
+    for (std::size_t i = 0; i < o.external.size(); ++i)
+      js << (i ? ", " : "") << "{\"name\": " << json_string(o.external[i].name)
+         << ", \"command\": " << json_string(o.external[i].command) << "}";
+  }
   js << "],\n  \"families\": [";
   for (std::size_t i = 0; i < o.families.size(); ++i) js << (i ? ", " : "") << json_string(o.families[i]);
   js << "],\n  \"jobs\": " << o.jobs << ",\n  \"wall_seconds\": " << secs

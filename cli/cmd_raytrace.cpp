@@ -11,6 +11,7 @@
 
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
+#include "cli/sweep_args.hpp"
 #include "cli/sweep_progress.hpp"
 #include "raytrace/sweeps.hpp"
 #include "tools/atomic_file.hpp"
@@ -24,7 +25,7 @@ namespace {
 
 constexpr const char* kHelp = R"(usage: tagbench raytrace angle|distance|conditions [--trials N] [--tag-size M] [--seed S]
            [--detectors LIST] [--family F] [--scene plain|realistic] [--distance D] [--angles LIST] [--distances LIST]
-           [--conditions LIST] [--processes P] [--cache DIR] [--povray PATH] [--out DIR]
+           [--conditions LIST] [--processes P] [--cache DIR] [--povray PATH] [--out DIR] [--external-timeout S]
 
 The localization experiments of the paper's section VI-B on ray-traced frames: POV-Ray 3.7, a pinhole
 camera of 400 x 400 pixels with f = 400 px as in the paper, a 36h11 tag (the family all five detectors
@@ -61,6 +62,13 @@ Options:
                       at full and half resolution), tagbench-paper, tagbench-paper-half (the paper's
                       detector, full and half resolution), libapriltag-d1, libapriltag-d2 (AprilTag 3.3, quad_decimate 1
                       and 2), aruco (OpenCV 4.6, DICT_APRILTAG_36h11, CORNER_REFINE_APRILTAG)
+                      external:NAME=COMMAND: a detector outside the build, run once on all the frames:
+                      COMMAND (split as a shell would, no shell run) reads the images' paths on stdin, one a
+                      line, and prints one JSON line per image in any order (the format of tagbench score
+                      --help, our conventions); its rows are under NAME. A crash, a hang past
+                      --external-timeout, a bad line or an image left out stops the run with one line
+                      naming NAME and the image, before anything is written
+  --external-timeout S  seconds an external detector may take for all the frames (default 1800)
   --family F          the tag family (default 36h11; libapriltag and aruco also know 16h5, 25h9,
                       36h10; ours any built-in family or family file)
   --scene NAME        plain (default: a self-lit tag on uniform grey) or realistic (a light, a brick wall
@@ -116,7 +124,7 @@ std::vector<double> number_list(const std::string& option, const std::string& s)
 int cmd_raytrace(const Words& w) {
   if (wants_help(w, kHelp)) return 0;
   const Args a(w, {{"trials"}, {"tag-size"}, {"seed"}, {"detectors"}, {"family"}, {"scene"}, {"distance"}, {"angles"},
-                   {"distances"}, {"conditions"}, {"processes"}, {"cache"}, {"povray"}, {"out"}});
+                   {"distances"}, {"conditions"}, {"processes"}, {"cache"}, {"povray"}, {"out"}, {"external-timeout"}});
   if (a.positionals().empty()) throw UsageError("which experiment? angle, distance or conditions");
   if (a.positionals().size() > 1) throw UsageError("unexpected argument '" + a.positionals()[1] + "'");
   SweepSettings s;
@@ -129,7 +137,10 @@ int cmd_raytrace(const Words& w) {
   s.trials = static_cast<int>(a.get_int("trials", 5, -1000000000, 1000000000));
   if (a.has("tag-size")) s.tag_size = parse_double("--tag-size", *a.get("tag-size"), -1e300, 1e300);
   if (a.has("seed")) s.seed = static_cast<std::uint64_t>(parse_int("--seed", *a.get("seed"), 0, (1LL << 62)));
-  if (a.has("detectors")) s.detectors = split_list("--detectors", *a.get("detectors"));
+  if (a.has("detectors"))
+    parse_detector_list("--detectors", *a.get("detectors"), a.get_double("external-timeout", 1800, 1e-3, 1e9), s);
+  else if (a.has("external-timeout"))
+    throw UsageError("--external-timeout: no external detector (--detectors ...,external:NAME=COMMAND)");
   if (a.has("family")) s.family = *a.get("family");
   if (a.has("distance")) {
     if (s.experiment == Experiment::kDistance) throw UsageError("--distance: the distance sweep takes --distances");

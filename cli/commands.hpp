@@ -20,6 +20,8 @@ int cmd_corpus(const Words& args);
 int cmd_falsepos(const Words& args);
 int cmd_realistic(const Words& args);
 int cmd_speed(const Words& args);
+int cmd_dataset(const Words& args);
+int cmd_score(const Words& args);
 
 // True (and the help printed to stdout) when args ask for help.
 bool wants_help(const Words& args, const char* help_text);

@@ -16,13 +16,14 @@ namespace fs = std::filesystem;
 
 const char* const kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
                        [--min-margin M] [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
-                       [--profile default|paper] [--format json|csv] [--draw OUT] [--debug-dir DIR] [--threads T]
-                       [--explain X,Y[,FAMILY:ID]]...
+                       [--profile default|paper] [--format json|jsonl|csv] [--draw OUT] [--debug-dir DIR]
+                       [--threads T] [--explain X,Y[,FAMILY:ID]]...
 
 Detects tags in every input and prints the detections on stdout, in input order.
 Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted to gray), directories
 (searched recursively, image extensions only, sorted), videos (.mp4 .avi .mkv .mov .webm .m4v .mpg
-.mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0).
+.mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0); a lone '-': the
+paths are read from stdin, one a line (how the experiments run an external detector).
   --profile P          default (the default profile: threshold quads, refined edges, cells read over
                        their area) or paper (the 2011 paper's detector exactly, sections III-IV)
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
@@ -35,7 +36,8 @@ Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted t
                        OpenCV lens distortion; needs --camera (corners are undistorted for the pose)
   --tag-size M         edge of the black square in metres (> 0); needs --camera
   --half-res           find quads at half resolution (the paper's faster option)
-  --format json|csv    output format (default json)
+  --format json|jsonl|csv
+                       output format (default json; jsonl: a line per image, below)
   --draw OUT           draw the detections like the paper's Fig. 1 (outline, printed top-left corner
                        as a dot, id at the centre, pose axes x red, y green, z blue, tag size / 2 long;
                        z points into the tag). One image input: OUT is the picture (.png, .jpg);
@@ -85,6 +87,13 @@ JSON output (one document for the whole run):
    "errors": [{"input": path, "error": message}]}
 Pixel centres are at integer coordinates; camera frame x right, y down, z forward; tag frame origin at
 the centre, x right, y down (as printed), z into the tag; X_cam = R X_tag + t (metres).
+
+JSON lines (--format jsonl; what `tagbench score` and the experiments' external detectors read): one
+line per input image, in input order:
+  {"image": path or "video#frameN", "width": W, "height": H, "ms": wall time,
+   "detections": [{"family", "id", "hamming", "decision_margin", "corners": [[x,y] x4: printed TL, TR,
+                   BR, BL], "pose": {"R": [[3] x3], "t": [x,y,z]} (with --camera)}]}
+and for an input that cannot be read {"image": path, "error": message} (also on stderr; exit status 1).
 
 CSV output: a header row, then one row per detection:
   input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,
@@ -154,8 +163,10 @@ Settings parse_settings(const Args& a) {
   if (tag_size) s.det.tag_size = *tag_size;
 
   const std::string format = a.get_or("format", "json");
-  if (format != "json" && format != "csv") throw UsageError("--format " + format + ": use json or csv");
+  if (format != "json" && format != "csv" && format != "jsonl")
+    throw UsageError("--format " + format + ": use json, jsonl or csv");
   s.csv = format == "csv";
+  s.jsonl = format == "jsonl";
   s.threads = static_cast<int>(a.get_int("threads", hardware_threads(), 1, 1024));
   if (const auto d = a.get("debug-dir")) {
     if (d->empty()) throw UsageError("--debug-dir: empty path");

@@ -18,6 +18,7 @@ struct Settings {
   std::string profile = "default";  // "default" or "paper" (--profile)
   DetectorOptions det;
   bool csv = false;
+  bool jsonl = false;  // --format jsonl: one JSON line per image (the format tagbench score reads)
   std::optional<fs::path> draw;
   bool draw_is_file = false;
   std::optional<fs::path> debug_dir;

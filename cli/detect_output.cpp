@@ -23,6 +23,7 @@ std::string csv_num(double v) { return std::isfinite(v) ? json_number(v) : std::
 Sink::Sink(const Settings& s, const Detector& det) : s_(s), det_(det), tty_(::isatty(STDERR_FILENO) != 0) {}
 
 void Sink::begin() {
+  if (s_.jsonl) return;  // lines only
   if (s_.csv) {
     put("input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,"
         "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,min_decision_margin\n");
@@ -60,14 +61,16 @@ void Sink::emit(const Outcome& o) {
     std::fprintf(stderr, "%stagbench detect: %s: %s\n", tty_ ? "\r\033[K" : "", one_line(o.label, true).c_str(),
                  one_line(o.error, false).c_str());
     std::fflush(stderr);
+    if (s_.jsonl) put("{\"image\": " + json_string(o.label) + ", \"error\": " + json_string(o.error) + "}\n");
     return;
   }
-  if (s_.csv) emit_csv(o);
+  if (s_.jsonl) emit_jsonl(o);
+  else if (s_.csv) emit_csv(o);
   else emit_json(o);
 }
 
 void Sink::end() {
-  if (!s_.csv) {
+  if (!s_.csv && !s_.jsonl) {
     std::string t = images_ ? "\n  ],\n  \"errors\": [" : "],\n  \"errors\": [";
     for (std::size_t i = 0; i < errors_.size(); ++i)
       t += std::string(i ? "," : "") + "\n    {\"input\": " + json_string(errors_[i].label) +
@@ -126,6 +129,26 @@ void Sink::emit_json(const Outcome& o) {
   }
   s += "}";
   put(s);
+}
+
+// One line per image (the format tagbench score reads): the detections' ids, corners and poses.
+void Sink::emit_jsonl(const Outcome& o) {
+  std::string s = "{\"image\": " + json_string(o.label) + ", \"width\": " + std::to_string(o.width) +
+                  ", \"height\": " + std::to_string(o.height) + ", \"ms\": " + json_number(o.detect_ms) +
+                  ", \"detections\": [";
+  for (std::size_t i = 0; i < o.detections.size(); ++i) {
+    const Detection& d = o.detections[i];
+    s += std::string(i ? ", " : "") + "{\"family\": " + json_string(d.family) + ", \"id\": " + std::to_string(d.id) +
+         ", \"hamming\": " + std::to_string(d.hamming) + ", \"decision_margin\": " + json_number(d.decision_margin) +
+         ", \"corners\": [";
+    for (std::size_t k = 0; k < 4; ++k) s += (k ? ", " : "") + point(d.corners[k]);
+    s += "]";
+    if (d.pose)
+      s += ", \"pose\": {\"R\": " + matrix(d.pose->pose.R) + ", \"t\": [" + json_number(d.pose->pose.t.x()) + ", " +
+           json_number(d.pose->pose.t.y()) + ", " + json_number(d.pose->pose.t.z()) + "]}";
+    s += "}";
+  }
+  put(s + "]}\n");
 }
 
 void Sink::emit_csv(const Outcome& o) {

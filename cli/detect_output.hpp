@@ -1,5 +1,5 @@
 #pragma once
-// tagbench detect: the output. One JSON document for the whole run or CSV rows (the formats:
+// tagbench detect: the output. One JSON document for the whole run, a JSON line per image, or CSV rows (the formats:
 // detect_args.cpp's kHelp, cmd_detect.cpp's header), written to stdout in input order; failed inputs
 // are reported on stderr as they come and listed in the JSON's "errors".
 #include <cstddef>
@@ -35,6 +35,7 @@ class Sink {
   static std::string pose(const PoseSolution& p);
   void emit_json(const Outcome& o);
   void emit_csv(const Outcome& o);
+  void emit_jsonl(const Outcome& o);
   const Settings& s_;
   const Detector& det_;
   bool tty_;

@@ -28,6 +28,8 @@ Commands:
             whole detectors (ours, libapriltag, OpenCV aruco)
   realistic the detectors on frames made like JPEG photographs of small tags (12-40 px), per size
   speed     detector speed on whole image sets (corpus, ray-traced, realistic frames, scenes)
+  dataset   export a ray-traced sweep's frames and ground truth (truth.json) for any detector
+  score     score any detector's output (JSON lines) on an exported dataset, like the sweeps
 
 Run 'tagbench <command> --help' for a command's options.
 Conventions: codes in AprilTag 1 order (MSB = top-left payload cell, row-major, 1 = white).
@@ -50,6 +52,8 @@ constexpr Command kCommands[] = {
     {"falsepos", tagbench::cli::cmd_falsepos},
     {"realistic", tagbench::cli::cmd_realistic},
     {"speed", tagbench::cli::cmd_speed},
+    {"dataset", tagbench::cli::cmd_dataset},
+    {"score", tagbench::cli::cmd_score},
 };
 
 }  // namespace

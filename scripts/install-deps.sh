@@ -12,6 +12,7 @@ PACKAGES=(
   libapriltag-dev
   zlib1g-dev libzstd-dev libssl-dev
   python3 python3-matplotlib
+  python3-opencv  # examples/external/aruco_detector.py, the example external detector
 )
 # `make fuzz` only (scripts/install-deps.sh --fuzz): clang and its runtime, which holds libFuzzer.
 if [[ "${1:-}" == "--fuzz" ]]; then

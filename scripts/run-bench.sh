@@ -41,6 +41,11 @@ RT_CACHE=$BUILD/raytrace-cache
 "$BIN" raytrace angle --trials 50 --cache "$RT_CACHE" --out results
 "$BIN" raytrace distance --trials 50 --cache "$RT_CACHE" --out results
 "$BIN" raytrace conditions --trials 50 --cache "$RT_CACHE" --out results
+# The same frames as datasets any detector can be run on and scored against (README "Benchmark your own
+# detector"): PNG files and truth.json in $BUILD/datasets/{angle,distance,conditions}, from the cache.
+for exp in angle distance conditions; do
+  "$BIN" dataset export "$exp" --trials 50 --cache "$RT_CACHE" --out "$BUILD/datasets/$exp"
+done
 # Figs. 9 and 10 also draw the paper's Java AprilTag 1 and ARToolKitPlus, run outside the build on these
 # frames: read from ../shared/reference/external_runs/ when it is there, else from results/external/.
 "$PY" scripts/plot_raytrace.py results angle distance conditions

@@ -10,6 +10,7 @@ namespace tagbench {
 struct ChildStatus {
   int exit_code = 0;  // 126: it could not be set up (log, folder), 127: the program could not be run
   int signal = 0;     // non-zero when a signal ended it
+  bool timed_out = false;  // run_child_io: killed (SIGKILL) because it ran past its time limit
   // The shell's convention: the exit code, or 128 + the signal.
   int code() const { return signal != 0 ? 128 + signal : exit_code; }
 };
@@ -21,5 +22,16 @@ struct ChildStatus {
 // into folders a rerun uses. Throws std::runtime_error only when it cannot start or wait.
 ChildStatus run_child(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
                       const std::filesystem::path& log, int nice_increment = 0);
+
+// The files a child reads and writes (all three required; stdout and stderr created or emptied), and
+// how long it may run.
+struct ChildIo {
+  std::filesystem::path stdin_file, stdout_file, stderr_file;
+  double timeout_seconds = 0;  // > 0: past it the child and its process group are killed (SIGKILL)
+};
+
+// As run_child, with stdin, stdout and stderr from and into files, in a process group of its own
+// (so a timeout also ends what it started), and a time limit.
+ChildStatus run_child_io(const std::vector<std::string>& argv, const std::filesystem::path& cwd, const ChildIo& io);
 
 }  // namespace tagbench

@@ -15,6 +15,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "codes/families.hpp"
+
 namespace tagbench::bench {
 
 namespace {
@@ -46,13 +48,18 @@ FpDetectorsRun run_fp_detectors(const std::filesystem::path& dir, std::vector<co
   if (options.detectors.empty()) throw std::invalid_argument("no detector given");
   if (options.families.empty()) throw std::invalid_argument("no family given");
   const std::size_t pairs = options.detectors.size() * options.families.size();
+  const auto external_of = [&](const std::string& name) -> const ExternalDetector* {
+    for (const auto& e : options.external)
+      if (e.name == name) return &e;
+    return nullptr;
+  };
   auto make_all = [&] {
     std::vector<std::unique_ptr<Comparator>> v;
     for (const auto& d : options.detectors)
       for (const auto& f : options.families) {
         ComparatorSetup s;
         s.family = f;
-        v.push_back(make_comparator(d, s));
+        v.push_back(external_of(d) ? nullptr : make_comparator(d, s));  // external ones run below, once
       }
     return v;
   };
@@ -78,6 +85,7 @@ FpDetectorsRun run_fp_detectors(const std::filesystem::path& dir, std::vector<co
           r.width = gray.cols;
           r.height = gray.rows;
           for (std::size_t p = 0; p < pairs; ++p) {
+            if (!dets[p]) continue;
             const DetectorOutput out = dets[p]->run(gray);
             r.ms[p] = out.ms;
             for (const Found& f : out.found) {
@@ -117,6 +125,50 @@ FpDetectorsRun run_fp_detectors(const std::filesystem::path& dir, std::vector<co
   for (auto& t : pool) t.join();
   if (!error.empty()) throw std::runtime_error(error);
   if (progress) progress({done.load(), images.size(), found.load()});
+
+  // The external detectors, each once on all the readable images; detections in the run's order
+  // (detector, then family) within each image.
+  const std::size_t nf = options.families.size();
+  for (std::size_t di = 0; di < options.detectors.size(); ++di) {
+    const ExternalDetector* e = external_of(options.detectors[di]);
+    if (!e) continue;
+    std::vector<std::string> paths;
+    std::vector<std::size_t> which;
+    for (std::size_t i = 0; i < images.size(); ++i)
+      if (results[i].readable) {
+        paths.push_back(std::filesystem::absolute(dir / images[i].file).lexically_normal().string());
+        which.push_back(i);
+      }
+    const std::vector<ImageDetections> got = paths.empty() ? std::vector<ImageDetections>{} : run_external(*e, paths);
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      ImageResult& r = results[which[k]];
+      for (std::size_t fi = 0; fi < nf; ++fi)
+        if (std::isfinite(got[k].ms)) r.ms[di * nf + fi] = got[k].ms;
+      for (const Found& f : got[k].found)
+        for (std::size_t fi = 0; fi < nf; ++fi) {
+          if (canonical_family_name(f.family) != canonical_family_name(options.families[fi])) continue;
+          FalseDetection fd;
+          fd.image = static_cast<std::uint32_t>(which[k]);
+          fd.detector = options.detectors[di];
+          fd.family = options.families[fi];
+          fd.id = f.id;
+          fd.hamming = f.hamming;
+          fd.decision_margin = f.decision_margin;
+          fd.corners = f.corners;
+          r.detections.push_back(std::move(fd));
+        }
+    }
+  }
+  if (!options.external.empty()) {
+    const auto rank = [&](const FalseDetection& d) {
+      const auto di = std::find(options.detectors.begin(), options.detectors.end(), d.detector) - options.detectors.begin();
+      const auto fi = std::find(options.families.begin(), options.families.end(), d.family) - options.families.begin();
+      return std::make_pair(di, fi);
+    };
+    for (auto& r : results)
+      std::stable_sort(r.detections.begin(), r.detections.end(),
+                       [&](const FalseDetection& a, const FalseDetection& b) { return rank(a) < rank(b); });
+  }
 
   FpDetectorsRun run;
   run.options = options;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "candidates.hpp"
+#include "external/external_detector.hpp"
 #include "raytrace/comparators.hpp"
 #include "stats.hpp"
 
@@ -22,6 +23,10 @@ struct FpDetectorsOptions {
   // OpenCV 4.6 aruco's defaults.
   std::vector<std::string> detectors = {"tagbench", "tagbench-paper", "libapriltag-d2", "aruco-default"};
   std::vector<std::string> families = {"16h5", "25h9", "36h11"};
+  // Detectors outside the build, named in `detectors`: each runs once on every readable image (its
+  // path), all families at once; its detections count under the family each names (others dropped),
+  // its time ("ms" of its lines) under each family.
+  std::vector<ExternalDetector> external;
   int jobs = 0;  // images at once; 0: all cores. The results do not depend on it.
 };
 

@@ -101,6 +101,13 @@ std::string sidecar_json(const SweepResult& r) {
     j += "\"uniform in [0, " + format_cell(kConditionsMaxPhi, "%.10g") + "]\"";
   j += ",\n    \"detectors\": [";
   for (std::size_t i = 0; i < s.detectors.size(); ++i) j += (i ? ", " : "") + json_string(s.detectors[i]);
+  if (!s.external.empty()) {  // only then: the built-in runs' sidecars keep their bytes
+    j += "],\n    \"external\": [";
+    for (std::size_t i = 0; i < s.external.size(); ++i)
+      j += std::string(i ? ", " : "") + "{\"name\": " + json_string(s.external[i].name) +
+           ", \"command\": " + json_string(s.external[i].command) +
+           ", \"timeout_s\": " + json_number(s.external[i].timeout_seconds) + "}";
+  }
   j += "],\n    \"random\": " +
        json_string("per trial: splitmix64 seeded from (seed, experiment, trial) draws the id, the tilt axis and "
                    "the in-plane rotation (uniform in [0, 360) degrees), the image position (uniform in a disc of "

@@ -105,6 +105,12 @@ std::vector<double> default_steps(Experiment e) {
 
 double position_radius_px(Experiment e) { return e == Experiment::kDistance ? 20 : 100; }
 
+const ExternalDetector* find_external(const SweepSettings& s, const std::string& name) {
+  for (const auto& e : s.external)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
 SweepSettings resolve_settings(const SweepSettings& in) {
   SweepSettings s = in;
   const std::string what = std::string(experiment_name(s.experiment)) + " sweep: ";
@@ -112,19 +118,28 @@ SweepSettings resolve_settings(const SweepSettings& in) {
   if (!s.tag_size) s.tag_size = s.experiment == Experiment::kDistance ? 1.0 : 0.166;
   if (!(*s.tag_size > 0) || !std::isfinite(*s.tag_size))
     throw std::invalid_argument("tag size must be > 0 metres (got " + format_cell(*s.tag_size, "%.10g") + ")");
-  if (s.detectors.empty()) s.detectors = comparator_names();
+  const auto& known = comparator_names();
+  for (const auto& e : s.external)
+    if (std::find(known.begin(), known.end(), e.name) != known.end())
+      throw std::invalid_argument("external detector '" + e.name + "': the name of a built-in detector");
+  if (s.detectors.empty()) {
+    s.detectors = known;
+    for (const auto& e : s.external) s.detectors.push_back(e.name);
+  }
   std::set<std::string> seen;
   for (const auto& d : s.detectors) {
-    const auto& known = comparator_names();
-    if (std::find(known.begin(), known.end(), d) == known.end() && !is_ours_variant(d)) {
+    if (std::find(known.begin(), known.end(), d) == known.end() && !is_ours_variant(d) && !find_external(s, d)) {
       std::string list;
       for (const auto& n : known) list += (list.empty() ? "" : ", ") + n;
-      throw std::invalid_argument("unknown detector '" + d + "' (" + list + ")");
+      throw std::invalid_argument("unknown detector '" + d + "' (" + list + ", external:NAME=COMMAND)");
     }
     if (!seen.insert(d).second) throw std::invalid_argument("detector '" + d + "' given twice");
   }
+  for (const auto& e : s.external)
+    if (!seen.count(e.name)) throw std::invalid_argument("external detector '" + e.name + "' is not among the detectors");
   load_family(s.family);  // an unknown family fails here
   for (const auto& d : s.detectors) {  // and one a detector does not know ("libapriltag has no family ...")
+    if (find_external(s, d)) continue;  // an external detector is told nothing of the family
     ComparatorSetup setup;
     setup.family = s.family;
     make_comparator(d, setup);

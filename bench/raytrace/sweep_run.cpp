@@ -8,6 +8,7 @@
 
 #include "codes/families.hpp"
 #include "raytrace/sweep_detail.hpp"
+#include "raytrace/sweep_external.hpp"
 #include "raytrace/sweeps.hpp"
 
 namespace tagbench::bench {
@@ -25,7 +26,8 @@ DetectorSet make_detectors(const SweepSettings& s, std::optional<double> k1) {
   setup.tag_size = *s.tag_size;
   if (k1) setup.distortion = std::array<double, 5>{*k1, 0, 0, 0, 0};
   DetectorSet set;
-  for (const auto& name : s.detectors) set.push_back(make_comparator(name, setup));
+  for (const auto& name : s.detectors)
+    if (!find_external(s, name)) set.push_back(make_comparator(name, setup));  // the built-in ones, in order
   return set;
 }
 
@@ -68,7 +70,15 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
   res.frames = plan_sweep(res.settings);
   const SweepSettings& s = res.settings;
   DetectorSet plain = make_detectors(s, std::nullopt);  // a bad detector setup fails before any rendering
-  for (const auto& det : plain) res.can_explain.push_back(det->can_explain());
+  std::vector<std::string> builtin_names;  // the built-in detectors, in the order of `plain`
+  for (std::size_t k = 0, b = 0; k < s.detectors.size(); ++k) {
+    if (find_external(s, s.detectors[k])) {
+      res.can_explain.push_back(false);  // an external detector gives no loss stage
+    } else {
+      builtin_names.push_back(s.detectors[k]);
+      res.can_explain.push_back(plain[b++]->can_explain());
+    }
+  }
 
   std::vector<FramePose> poses;
   poses.reserve(res.frames.size());
@@ -90,6 +100,16 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
                              " frames rendered: " + res.failed.front().error);
 
   const auto t0 = std::chrono::steady_clock::now();
+  // The external detectors first, each once on all the frames: a failure leaves no rows at all.
+  const std::vector<std::vector<DetectorOutput>> external = run_external_detectors(s, res.frames, report);
+  // Where each detector's output is: the index into the built-in set's outputs, or into `external`.
+  std::vector<std::pair<bool, std::size_t>> source;
+  for (std::size_t k = 0, builtin = 0; k < s.detectors.size(); ++k) {
+    if (const ExternalDetector* e = find_external(s, s.detectors[k]))
+      source.emplace_back(true, static_cast<std::size_t>(e - s.external.data()));
+    else
+      source.emplace_back(false, builtin++);
+  }
   const int saved_threads = cv::getNumThreads();
   cv::setNumThreads(1);
   struct Restore {
@@ -134,14 +154,16 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
       for (auto& det : *set) fresh.outputs.push_back(det->run(image));
       // Explanations after every detector has run and been timed: a missed frame is detected again, with a trace.
       for (std::size_t k = 0; k < set->size(); ++k) {
-        fresh.rows.push_back(row_of(fresh.outputs[k], s.detectors[k], i, f));
+        fresh.rows.push_back(row_of(fresh.outputs[k], builtin_names[k], i, f));
         if (!fresh.rows.back().detected_right_id)
           fresh.rows.back().loss = (*set)[k]->explain(image, f.frame.family, f.frame.id, f.truth.corners);
       }
       if (unmodified) run = &plain_runs.emplace(png, std::move(fresh)).first->second;
       else run = &fresh;
     }
-    for (SweepRow row : run->rows) {
+    for (std::size_t k = 0; k < s.detectors.size(); ++k) {  // the detectors' order, external ones in their place
+      const auto [is_external, j] = source[k];
+      SweepRow row = is_external ? row_of(external[j][i], s.detectors[k], i, f) : run->rows[j];
       row.frame = i;
       res.rows.push_back(std::move(row));
     }

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "external/external_detector.hpp"
 #include "raytrace/comparators.hpp"
 #include "raytrace/loss_columns.hpp"
 #include "raytrace/render.hpp"
@@ -64,7 +65,9 @@ struct SweepSettings {
   int trials = 5;                          // frames per step, > 0
   std::optional<double> tag_size;          // black square, metres; default 0.166 (angle, conditions), 1 (distance)
   std::uint64_t seed = 1;
-  std::vector<std::string> detectors;      // comparator names; empty: all five
+  std::vector<std::string> detectors;      // comparator names and external detectors' names, in the rows'
+                                           // order; empty: all five, then the external ones
+  std::vector<ExternalDetector> external;  // detectors outside the build (external_detector.hpp), by name
   SceneKind scene = SceneKind::kPlain;
   std::vector<double> steps;               // angle: phi in degrees, [0, 90); distance: metres, > 0; empty: defaults
   std::optional<double> distance;          // angle and conditions: the fixed distance, metres (default 1)
@@ -77,6 +80,8 @@ struct SweepSettings {
 // anything out of range (trials <= 0, an angle outside [0, 90), a distance or tag size <= 0, an unknown
 // or repeated detector, steps given to conditions, a distance given to the distance sweep, ...).
 SweepSettings resolve_settings(const SweepSettings& settings);
+// The external detector of that name, or nullptr.
+const ExternalDetector* find_external(const SweepSettings& settings, const std::string& name);
 std::vector<double> default_steps(Experiment e);
 double position_radius_px(Experiment e);  // how far from the image centre the tag centre may be placed
 

@@ -336,7 +336,7 @@ const std::vector<Case>& cases() {
       {"detect_min_margin_nan", kTag, {"detect", "--min-margin", "nan", "tag.png"}, 2,
        {"--min-margin: 'nan' is not a finite number"}},
       {"detect_threads_0", kTag, {"detect", "--threads", "0", "tag.png"}, 2, {"--threads: 0 is outside 1..1024"}},
-      {"detect_format_xml", kTag, {"detect", "--format", "xml", "tag.png"}, 2, {"--format xml: use json or csv"}},
+      {"detect_format_xml", kTag, {"detect", "--format", "xml", "tag.png"}, 2, {"--format xml: use json, jsonl or csv"}},
       {"detect_unknown_option", kTag, {"detect", "--sigma", "-1", "tag.png"}, 2, {"unknown option '--sigma'"}},
       {"detect_missing_option_value", kTag, {"detect", "tag.png", "--family"}, 2, {"--family needs a value"}},
       // --- detect: outputs ---

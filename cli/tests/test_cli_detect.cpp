@@ -460,6 +460,25 @@ TEST(CliDetect, PoseMatchesTheKnownDistance) {
   EXPECT_NEAR(std::stod(rows[0].at("tz")), t[2], 0.02 * t[2]);
   EXPECT_NEAR(std::stod(rows[0].at("r00")), R(0, 0), 0.05);
 
+  // JSON lines (--format jsonl): the same detection, corners and pose, one line per image; an
+  // unreadable input is a line with its error (and exit status 1).
+  std::ofstream(dir / "broken.png") << "not a png";
+  const Result l = run("detect --family 25h9 --format jsonl" + cam + q(dir / "posed.png") + " " + q(dir / "broken.png"));
+  EXPECT_EQ(l.code, 1);
+  const auto nl = l.out.find('\n');
+  ASSERT_NE(nl, std::string::npos);
+  const Json line = parse_json(l.out.substr(0, nl));
+  EXPECT_EQ(line["image"].str, (dir / "posed.png").string());
+  ASSERT_EQ(line["detections"].size(), 1u);
+  EXPECT_EQ(line["detections"][0]["id"].num, 11);
+  for (std::size_t k = 0; k < 4; ++k)
+    for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(line["detections"][0]["corners"][k][i].num, d["corners"][k][i].num);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(line["detections"][0]["pose"]["t"][i].num, pose["t"][i].num);
+  const Json bad = parse_json(l.out.substr(nl + 1, l.out.size() - nl - 2));
+  EXPECT_EQ(bad["image"].str, (dir / "broken.png").string());
+  EXPECT_FALSE(bad["error"].str.empty());
+  EXPECT_EQ(l.out.size(), l.out.find('\n', nl + 1) + 1) << "two lines";
+
   // The drawing shows the pose axes: x red from the tag centre.
   const fs::path drawn = dir / "drawn.png";
   ASSERT_EQ(run("detect --family 25h9" + cam + q(dir / "posed.png") + " --draw " + q(drawn)).code, 0);

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -78,4 +80,22 @@ TEST_F(ChildProcess, NiceLowersThePriority) {
   ASSERT_EQ(run_child({"nice"}, dir_.path(), dir_.path() / "nice.log", 5).code(), 0);
   const int base = std::stoi(slurp(dir_.path() / "base.log"));
   EXPECT_EQ(std::stoi(slurp(dir_.path() / "nice.log")), std::min(base + 5, 19));
+}
+
+TEST_F(ChildProcess, IoFromAndIntoFilesAndATimeLimitThatEndsTheGroup) {
+  const fs::path in = dir_.path() / "in", out = dir_.path() / "out", err = dir_.path() / "err";
+  std::ofstream(in) << "a\nb\n";
+  tagbench::ChildIo io{in, out, err, 0};
+  ChildStatus s = tagbench::run_child_io({"sh", "-c", "tac; echo e >&2"}, dir_.path(), io);
+  EXPECT_EQ(s.code(), 0);
+  EXPECT_FALSE(s.timed_out);
+  EXPECT_EQ(slurp(out), "b\na\n");
+  EXPECT_EQ(slurp(err), "e\n");
+  // A hang (here in a grandchild) is killed at the limit, with everything it started.
+  io.timeout_seconds = 0.3;
+  const auto t0 = std::chrono::steady_clock::now();
+  s = tagbench::run_child_io({"sh", "-c", "sleep 30 & wait"}, dir_.path(), io);
+  EXPECT_TRUE(s.timed_out);
+  EXPECT_EQ(s.signal, SIGKILL);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10);
 }

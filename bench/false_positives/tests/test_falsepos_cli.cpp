@@ -130,6 +130,33 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
   EXPECT_EQ(checked, 2 * 5);  // 2 detectors x (all, still, video-frame, group:clip, group:g1)
   EXPECT_EQ(read_csv(out / "fp_detections.csv").size(), 10u);
 
+  // Our detector as an external one (tagbench detect -, all images in one run) finds the same false
+  // detections, row for row, as the built-in one.
+  const fs::path ext = s.path() / "external";
+  fs::create_directories(ext);
+  fs::create_directories(s.path() / "bad");
+  const std::string mine = std::string(TAGBENCH_BIN) + " detect - --format jsonl --family 36h11";
+  r = run_tagbench("falsepos detectors --corpus " + corpus.string() + " --out " + ext.string() +
+                       " --families 36h11 --jobs 2 --detectors 'tagbench,external:mine=" + mine + "'",
+                   s.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto rows = read_csv(ext / "fp_detections.csv");
+  std::vector<std::map<std::string, std::string>> builtin, external;
+  for (auto row : rows) {
+    const std::string who = row.at("detector");
+    row.erase("detector");
+    (who == "mine" ? external : builtin).push_back(row);
+  }
+  EXPECT_EQ(builtin.size(), 5u);
+  EXPECT_EQ(external, builtin);
+  EXPECT_NE(slurp(ext / "fp_detectors.json").find("\"external\": [{\"name\": \"mine\""), std::string::npos);
+  r = run_tagbench("falsepos detectors --corpus " + corpus.string() + " --out " + (s.path() / "bad").string() +
+                       " --families 36h11 --detectors 'external:bad=sh -c \"exit 9\"'",
+                   s.path());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("external detector bad: exited with status 9 at image '"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s.path() / "bad" / "fp_detectors.csv"));
+
   // The plots, as make bench draws them.
   const std::string plot = "/usr/bin/python3 " + std::string(TAGBENCH_SOURCE_DIR) + "/scripts/plot_falsepos.py " +
                            out.string() + " >/dev/null 2>&1";

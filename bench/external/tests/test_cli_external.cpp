@@ -1,0 +1,106 @@
+// External detectors inside `tagbench raytrace` (issue 12, section 3): our own `tagbench detect
+// --format jsonl` run as an external detector gives exactly the built-in rows of the same detector,
+// the example adapter examples/external/aruco_detector.py exactly the built-in aruco rows, and a
+// failing external detector stops the run with one line and no output.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "../../raytrace/tests/test_frames.hpp"
+#include "run_tagbench.hpp"
+#include "scratch_dir.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using tagbench::testing::CommandResult;
+using tagbench::testing::run_tagbench;
+using tagbench::testing::shell_quote;
+using tagbench::testing::slurp;
+
+std::string sweep() {
+  return "raytrace angle --angles 0,40,70 --trials 2 --processes 1 --cache " + tagbench::bench::test::shared_cache().string();
+}
+
+// The rows of `detector`, without its name and timing (`ms`) columns.
+std::vector<std::string> rows_of(const std::string& csv, const std::string& detector) {
+  std::vector<std::string> out;
+  std::istringstream in(csv);
+  std::size_t name_col = 0, ms_col = 0;
+  bool header = true;
+  for (std::string l; std::getline(in, l);) {
+    std::vector<std::string> cells;
+    std::istringstream cs(l);
+    for (std::string c; std::getline(cs, c, ',');) cells.push_back(c);
+    if (!l.empty() && l.back() == ',') cells.push_back("");
+    if (header) {
+      name_col = static_cast<std::size_t>(std::find(cells.begin(), cells.end(), "detector") - cells.begin());
+      ms_col = static_cast<std::size_t>(std::find(cells.begin(), cells.end(), "ms") - cells.begin());
+      header = false;
+      continue;
+    }
+    if (name_col >= cells.size() || cells[name_col] != detector) continue;
+    std::string row;
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      if (i != name_col && i != ms_col) row += cells[i] + ",";
+    out.push_back(row);
+  }
+  return out;
+}
+
+TEST(CliExternal, OurDetectorAsAnExternalOneGivesTheBuiltInRows) {
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray not installed";
+  tagbench::testing::ScratchDir dir("tagbench_cli_external");
+  const std::string ours = std::string(TAGBENCH_BIN) + " detect - --format jsonl --family 36h11 --camera 400,400,199.5,199.5 --tag-size 0.166";
+  const std::string list = "tagbench,tagbench-half,external:mine-full=" + ours + ",external:mine-half=" + ours + " --half-res";
+  const CommandResult r = run_tagbench(sweep() + " --detectors " + shell_quote(list) + " --out " + (dir / "o").string(), dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = slurp(dir / "o" / "fig9_angle.csv");
+  EXPECT_EQ(rows_of(csv, "mine-full").size(), 6u);
+  EXPECT_EQ(rows_of(csv, "mine-full"), rows_of(csv, "tagbench"));
+  EXPECT_EQ(rows_of(csv, "mine-half"), rows_of(csv, "tagbench-half"));
+  EXPECT_NE(slurp(dir / "o" / "fig9_angle.json").find("\"external\": [{\"name\": \"mine-full\""), std::string::npos);
+}
+
+TEST(CliExternal, TheExampleArucoAdapterGivesTheBuiltInArucoRows) {
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray not installed";
+  if (std::system("/usr/bin/python3 -c 'import cv2' 2>/dev/null") != 0)
+    GTEST_SKIP() << "python3-opencv not installed (scripts/install-deps.sh installs it)";
+  tagbench::testing::ScratchDir dir("tagbench_cli_external");
+  const std::string adapter = std::string(TAGBENCH_SOURCE_DIR) + "/examples/external/aruco_detector.py";
+  const std::string list =
+      "aruco,external:aruco-py=/usr/bin/python3 " + adapter + " --camera 400,400,199.5,199.5 --tag-size 0.166";
+  const CommandResult r = run_tagbench(sweep() + " --detectors " + shell_quote(list) + " --out " + (dir / "o").string(), dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = slurp(dir / "o" / "fig9_angle.csv");
+  EXPECT_EQ(rows_of(csv, "aruco-py").size(), 6u);
+  // The same OpenCV library on the same pixels: equal to the last digit.
+  EXPECT_EQ(rows_of(csv, "aruco-py"), rows_of(csv, "aruco"));
+}
+
+TEST(CliExternal, AFailingExternalDetectorIsOneLineAndWritesNothing) {
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray not installed";
+  tagbench::testing::ScratchDir dir("tagbench_cli_external");
+  CommandResult r = run_tagbench(sweep() + " --detectors " + shell_quote("tagbench,external:bad=sh -c 'read a; exit 4'") +
+                                     " --out " + (dir / "o").string(),
+                                 dir.path());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("external detector bad: exited with status 4 at image '"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o"));
+  r = run_tagbench(sweep() + " --external-timeout 0.5 --detectors " + shell_quote("external:slow=sleep 60") + " --out " +
+                       (dir / "o").string(),
+                   dir.path());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("external detector slow: no end within 0.5 s (--external-timeout)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "o"));
+  r = run_tagbench(sweep() + " --detectors " + shell_quote("external:x=a 'b") + " --out " + (dir / "o").string(), dir.path());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unclosed single quote"), std::string::npos) << r.err;
+}
+
+}  // namespace

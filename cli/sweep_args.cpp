@@ -1,0 +1,125 @@
+#include "cli/sweep_args.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+namespace tagbench::cli {
+
+using namespace tagbench::bench;
+
+std::vector<OptionSpec> sweep_option_specs() {
+  return {{"trials"}, {"tag-size"}, {"seed"}, {"family"}, {"scene"}, {"distance"}, {"angles"}, {"distances"}, {"conditions"}};
+}
+
+std::vector<std::string> split_items(const std::string& option, const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (const char c : s + ",") {
+    if (c == ',') {
+      if (cur.empty()) throw UsageError(option + ": empty item in '" + s + "'");
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+std::vector<double> number_list(const std::string& option, const std::string& s) {
+  std::vector<double> v;
+  for (const auto& item : split_items(option, s)) v.push_back(parse_double(option, item, -1e300, 1e300));
+  return v;
+}
+
+}  // namespace
+
+SweepSettings parse_sweep_settings(const std::string& name, const Args& a, const std::vector<std::string>& detectors) {
+  SweepSettings s;
+  s.detectors = detectors;
+  try {
+    s.experiment = parse_experiment(name);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  s.trials = static_cast<int>(a.get_int("trials", 5, -1000000000, 1000000000));
+  if (a.has("tag-size")) s.tag_size = parse_double("--tag-size", *a.get("tag-size"), -1e300, 1e300);
+  if (a.has("seed")) s.seed = static_cast<std::uint64_t>(parse_int("--seed", *a.get("seed"), 0, (1LL << 62)));
+  if (a.has("family")) s.family = *a.get("family");
+  if (a.has("distance")) {
+    if (s.experiment == Experiment::kDistance) throw UsageError("--distance: the distance sweep takes --distances");
+    s.distance = parse_double("--distance", *a.get("distance"), -1e300, 1e300);
+  }
+  if (a.has("angles")) {
+    if (s.experiment != Experiment::kAngle) throw UsageError("--angles belongs to the angle sweep");
+    s.steps = number_list("--angles", *a.get("angles"));
+  }
+  if (a.has("distances")) {
+    if (s.experiment != Experiment::kDistance) throw UsageError("--distances belongs to the distance sweep");
+    s.steps = number_list("--distances", *a.get("distances"));
+  }
+  try {
+    if (a.has("conditions")) {
+      if (s.experiment != Experiment::kConditions) throw UsageError("--conditions belongs to the conditions sweep");
+      for (const auto& c : split_items("--conditions", *a.get("conditions"))) s.conditions.push_back(parse_condition(c));
+    }
+    if (a.has("scene")) s.scene = parse_scene(*a.get("scene"));
+    s = resolve_settings(s);
+    plan_sweep(s);  // a tag that does not fit is refused before anything is rendered or written
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  return s;
+}
+
+void parse_detector_list(const std::string& option, const std::string& list, double external_timeout,
+                         SweepSettings& s) {
+  parse_detector_list(option, list, external_timeout, s.detectors, s.external);
+}
+
+void parse_detector_list(const std::string& option, const std::string& list, double external_timeout,
+                         std::vector<std::string>& detectors, std::vector<ExternalDetector>& external) {
+  const auto& known = known_comparator_names();
+  std::vector<std::string> items;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = list.find(',', start);
+    std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const bool starts_item = item.rfind("external:", 0) == 0 || std::find(known.begin(), known.end(), item) != known.end() || is_ours_variant(item);
+    if (!items.empty() && items.back().rfind("external:", 0) == 0 && !starts_item) items.back() += "," + item;
+    else items.push_back(item);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  for (const auto& item : items) {
+    if (item.empty()) throw UsageError(option + ": empty item in '" + list + "'");
+    if (item.rfind("external:", 0) == 0) {
+      try {
+        external.push_back(parse_external_detector(item.substr(9), external_timeout));
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(option + ": " + e.what());
+      }
+      detectors.push_back(external.back().name);
+    } else {
+      detectors.push_back(item);
+    }
+  }
+}
+
+void check_out_folder(const std::string& option, const std::string& out_text) {
+  const std::filesystem::path out = out_text;
+  for (std::filesystem::path p = out; !p.empty(); p = p.parent_path()) {
+    std::error_code ec;
+    if (std::filesystem::exists(p, ec)) {
+      if (!std::filesystem::is_directory(p, ec))
+        throw UsageError(option + " " + out.string() + ": " + (p == out ? "" : p.string() + " is ") + "not a directory");
+      break;
+    }
+    if (p == p.parent_path()) break;
+  }
+}
+
+}  // namespace tagbench::cli
