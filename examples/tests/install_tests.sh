@@ -60,7 +60,10 @@ find_package)
         -DCMAKE_BUILD_TYPE=Release >"$work.log" || { cat "$work.log"; fail "configure"; }
   cmake --build "$work" >>"$work.log" || { cat "$work.log"; fail "build"; }
   "$work/consumer" 36h11 7 && "$work/consumer" 16h5 29 || fail "consumer"
+  "$work/consumer_static" 36h11 586 || fail "consumer_static"
   ldd "$work/consumer" | quiet_grep "$prefix/$libdir/libtagbench.so" || fail "consumer not linked with the installed libtagbench.so"
+  ldd "$work/consumer_static" | quiet_grep libtagbench && fail "consumer_static linked with libtagbench.so"
+  readelf -d "$work/consumer" | quiet_grep "NEEDED.*libopencv" && fail "consumer (shared) linked with OpenCV itself"
   ;;
 pkg_config)
   # The build command written in consumer.cpp's header, as a user would type it.

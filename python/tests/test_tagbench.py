@@ -90,11 +90,11 @@ class DetectTest(unittest.TestCase):
         self.assertLess(d.pose.error, 0.5)
 
     def test_gil_is_released_during_detection(self):
-        # Another Python thread must make progress while detect() runs: with the GIL held through the
-        # C++ call it could not run at all between the call's start and end.
+        # Another Python thread must keep running while detect() runs. With the GIL held through the
+        # C++ call it could not run at all in that time: its clock readings would show one gap about
+        # as long as the call. Released, the gaps are scheduling slices, a small part of the call.
         tags = [tagbench.render_tag("36h11", i, px_per_cell=20, margin=30) for i in range(16)]
-        img = np.block([tags[4 * r: 4 * r + 4] for r in range(4)])
-        img = np.tile(img, (2, 2))
+        img = np.tile(np.block([tags[4 * r: 4 * r + 4] for r in range(4)]), (1, 2))  # 1040 x 2080
         det = tagbench.Detector()
         span = {}
 
@@ -109,9 +109,11 @@ class DetectTest(unittest.TestCase):
         while worker.is_alive():
             ticks.append(time.perf_counter())
         worker.join()
-        self.assertEqual(len(span["found"]), 64)
-        inside = [t for t in ticks if span["start"] < t < span["end"]]
-        self.assertGreater(len(inside), 100, f"main thread ran {len(inside)} times in {span['end'] - span['start']:.3f} s")
+        self.assertEqual(len(span["found"]), 32)
+        took = span["end"] - span["start"]
+        inside = [span["start"]] + [t for t in ticks if span["start"] < t < span["end"]] + [span["end"]]
+        longest = max(b - a for a, b in zip(inside, inside[1:]))
+        self.assertLess(longest, 0.5 * took, f"the other thread stood still {longest:.3f} s of the call's {took:.3f} s")
 
 
 class FamilyTest(unittest.TestCase):
