@@ -4,7 +4,8 @@
 // temporary prefix, once through find_package (CMakeLists.txt here) and once through pkg-config:
 //   c++ -std=c++20 consumer.cpp $(pkg-config --cflags --libs tagbench) -o consumer
 // Usage: consumer FAMILY ID. Prints "FAMILY ID x0,y0 x1,y1 x2,y2 x3,y3" (corners TL, TR, BR, BL) and
-// exits 0 when the detection is the rendered tag within 0.25 px; 1 otherwise.
+// exits 0 when the detection is the rendered tag within 0.25 px (and the linked library's version is
+// the headers'); 1 otherwise.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -55,6 +56,7 @@ int main(int argc, char** argv) try {
     }
     std::printf("\n");
   }
+  ok = ok && std::string(tagbench::version()) == TAGBENCH_VERSION_STRING;  // the library the headers describe
   std::printf("tagbench %s (headers %s): %s\n", tagbench::version(), TAGBENCH_VERSION_STRING,
               ok ? "ok" : "WRONG");
   return ok ? 0 : 1;
