@@ -130,6 +130,13 @@ deb)
   has libtagbench-dev "lib/(x86_64-linux-gnu/)?pkgconfig/tagbench\.pc"
   has python3-tagbench "lib/python3/dist-packages/tagbench\..*\.so"
   dpkg-deb -c "$(deb tagbench)" | quiet_grep include/ && fail "headers in the runtime package"
+  # Together the packages hold exactly what cmake --install puts in a prefix (no file left without
+  # a component, none twice).
+  for p in tagbench libtagbench-dev python3-tagbench; do
+    dpkg-deb -c "$(deb $p)" | awk '$1 !~ /^d/ { sub(/^\.\/usr\//, "", $6); print $6 }'
+  done | sort >"$work/debs.txt"
+  (cd "$prefix" && find . ! -type d | sed 's|^\./||' | sort) >"$work/prefix.txt"
+  diff "$work/prefix.txt" "$work/debs.txt" >"$work/diff.txt" || { cat "$work/diff.txt"; fail "packages differ from the install"; }
   depends() { dpkg-deb -f "$(deb "$1")" Depends; }
   dpkg-deb -I "$(deb tagbench)" | quiet_grep "Package: tagbench" || fail "dpkg-deb -I tagbench"
   for d in libopencv-core libopencv-imgproc libc6; do depends tagbench | quiet_grep "$d" || fail "tagbench does not depend on $d"; done
