@@ -28,7 +28,7 @@ const cv::Mat& scene(int w, int h) {
 
 void BM_Ours(benchmark::State& state) {
   const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
-  DetectorOptions o;
+  DetectorOptions o = DetectorOptions::paper();
   o.families = {"36h11"};
   o.half_resolution = state.range(2) == 1;
   if (state.range(2) == 2) o.quad_search.close_enough = CloseEnoughRule::kCode2012;

@@ -188,7 +188,7 @@ int run(int argc, char** argv) {
     malloc_trim(0);
     const double pixels = static_cast<double>(s.width) * s.height;
     for (const Setting& set : settings) {
-      DetectorOptions opt;
+      DetectorOptions opt = DetectorOptions::paper();
       opt.families = {family};
       opt.half_resolution = set.half_resolution;
       const Measurement m = measure_in_child(scene.image, opt);

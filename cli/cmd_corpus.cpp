@@ -188,8 +188,8 @@ int corpus_candidates(const Words& w) {
       bar.update(p.images_total ? static_cast<double>(p.images_done) / static_cast<double>(p.images_total) : 1.0,
                  std::to_string(p.images_done) + "/" + std::to_string(p.images_total), detail, left);
     };
-    store = shard ? corpus::extract_candidate_shard(*dir, images, *shard, DetectorOptions{}, jobs, report)
-                  : corpus::extract_candidates(*dir, std::move(images), DetectorOptions{}, jobs, report);
+    store = shard ? corpus::extract_candidate_shard(*dir, images, *shard, DetectorOptions::paper(), jobs, report)
+                  : corpus::extract_candidates(*dir, std::move(images), DetectorOptions::paper(), jobs, report);
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());

@@ -153,7 +153,8 @@ class Processor {
       if (debug) {
         const auto pics = stage_pictures(to_float_image(img), trace, o.detections, det_);
         for (std::size_t i = 0; i < pics.size(); ++i)
-          files.emplace_back(*s_.debug_dir / (job.out_name + "_" + kStages[i] + ".png"), encode(pics[i], ".png"));
+          if (!pics[i].empty())
+            files.emplace_back(*s_.debug_dir / (job.out_name + "_" + kStages[i] + ".png"), encode(pics[i], ".png"));
       }
       for (const auto& [path, bytes] : files) {
         make_parent(path);
@@ -322,6 +323,7 @@ int cmd_detect(const Words& words) {
                        {"distortion"},
                        {"tag-size"},
                        {"half-res", false},
+                       {"profile"},
                        {"format"},
                        {"draw"},
                        {"debug-dir"},

@@ -52,18 +52,19 @@ theory_exact (1 while 2k < h, where the random-payload rate is exact; an upper b
 generation_seconds. A quad is accepted at k when the nearest code (any rotation) is within k bits.
 
 detectors: whole detectors at their defaults on every image of the corpus (DIR/manifest.tsv, or
-every image under DIR), one family at a time: tagbench-full (ours: 1 bit corrected),
+every image under DIR), one family at a time: tagbench (ours, default profile: 1 bit corrected),
+tagbench-paper (the paper's detector: 1 bit corrected),
 libapriltag-d2 (libapriltag 3.3's defaults: quad_decimate 2, 2 bits corrected), aruco-default
 (OpenCV 4.6 aruco's defaults). Writes DIR/fp_detectors.csv (per detector, family and subset: all,
 still, video-frame, group:NAME; false detections per image and per megapixel with exact Poisson 95 %
 intervals, the share of images with one with its Wilson interval, ms per image and Mpx/s),
 DIR/fp_detections.csv (every false detection with its image and corners) and DIR/fp_detectors.json.
-  --detectors LIST  comma-separated (default tagbench-full,libapriltag-d2,aruco-default; also
-                    tagbench-half, libapriltag-d1, aruco)
+  --detectors LIST  comma-separated (default tagbench,tagbench-paper,libapriltag-d2,aruco-default;
+                    also tagbench-half, tagbench-paper-half, libapriltag-d1, aruco)
   --families LIST   comma-separated (default 16h5,25h9,36h11)
 
 margin: beyond the paper, what a minimum decision margin (tagbench detect --min-margin) buys and
-costs. Our detector (tagbench-full, margin 0) on every corpus image (false side) and on ray-traced
+costs. The paper's detector (tagbench-paper, margin 0) on every corpus image (false side) and on ray-traced
 frames of the same family (true side: the distance sweep of `tagbench raytrace distance`, and the
 conditions of the conditions sweep, default noise and blur); each threshold is scored from those
 detections, which is exactly what a run at that threshold gives. Writes DIR/margin_tradeoff.csv (per
@@ -240,8 +241,11 @@ int falsepos_detectors(const Words& w) {
   js << "{\n  \"command\": \"tagbench falsepos detectors\",\n  \"corpus\": " << json_string(corpus_dir)
      << ",\n  \"images\": " << run.images.size() << ",\n  \"images_unreadable\": " << unreadable
      << ",\n  \"detectors\": {\n"
-        "    \"tagbench-full\": \"tagbench DetectorOptions defaults (sigma 0.8, 1 bit corrected, full resolution)\",\n"
-        "    \"tagbench-half\": \"tagbench DetectorOptions defaults, segmentation at half resolution\",\n"
+        "    \"tagbench\": \"tagbench default profile (DetectorOptions defaults: threshold quads, edge refinement, "
+        "area payload reading, 1 bit corrected, full resolution)\",\n"
+        "    \"tagbench-half\": \"tagbench default profile, quads found at half resolution\",\n"
+        "    \"tagbench-paper\": \"tagbench DetectorOptions::paper() (sigma 0.8, 1 bit corrected, full resolution)\",\n"
+        "    \"tagbench-paper-half\": \"tagbench DetectorOptions::paper(), segmentation at half resolution\",\n"
         "    \"libapriltag-d1\": \"libapriltag 3.3: quad_decimate 1, its other defaults, 2 bits corrected\",\n"
         "    \"libapriltag-d2\": \"libapriltag 3.3 defaults: quad_decimate 2, refine_edges 1, decode_sharpening 0.25, "
         "2 bits corrected\",\n"
@@ -361,7 +365,7 @@ int falsepos_margin(const Words& w) {
   js << "{\n  \"command\": \"tagbench falsepos margin\",\n  \"corpus\": " << json_string(corpus_dir)
      << ",\n  \"images\": " << run.images.size() << ",\n  \"images_unreadable\": " << unreadable
      << ",\n  \"detector\": \"" << kMarginDetector
-     << "\",\n  \"detector_settings\": \"tagbench DetectorOptions defaults (sigma 0.8, 1 bit corrected, full "
+     << "\",\n  \"detector_settings\": \"tagbench DetectorOptions::paper() (sigma 0.8, 1 bit corrected, full "
         "resolution), min_decision_margin 0; thresholds applied to the final detections\",\n  \"families\": [";
   for (std::size_t i = 0; i < o.families.size(); ++i) js << (i ? ", " : "") << json_string(o.families[i]);
   js << "],\n  \"thresholds\": " << json_numbers(thresholds) << ",\n  \"sweeps\": [\n";

@@ -57,8 +57,9 @@ Options:
   --trials N          frames per step or strength (default 5; make bench uses 50)
   --tag-size M        edge of the black square, metres (default 0.166; 1 for distance)
   --seed S            seed of every random draw (default 1); each frame's seed is in its row
-  --detectors LIST    comma-separated (default all five): tagbench-full, tagbench-half (ours at full and
-                      half resolution), libapriltag-d1, libapriltag-d2 (AprilTag 3.3, quad_decimate 1
+  --detectors LIST    comma-separated (default all seven): tagbench, tagbench-half (ours, default profile,
+                      at full and half resolution), tagbench-paper, tagbench-paper-half (the paper's
+                      detector, full and half resolution), libapriltag-d1, libapriltag-d2 (AprilTag 3.3, quad_decimate 1
                       and 2), aruco (OpenCV 4.6, DICT_APRILTAG_36h11, CORNER_REFINE_APRILTAG)
   --family F          the tag family (default 36h11; libapriltag and aruco also know 16h5, 25h9,
                       36h10; ours any built-in family or family file)

@@ -16,12 +16,14 @@ namespace fs = std::filesystem;
 
 const char* const kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
                        [--min-margin M] [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
-                       [--format json|csv] [--draw OUT] [--debug-dir DIR] [--threads T]
+                       [--profile default|paper] [--format json|csv] [--draw OUT] [--debug-dir DIR] [--threads T]
 
 Detects tags in every input and prints the detections on stdout, in input order.
 Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted to gray), directories
 (searched recursively, image extensions only, sorted), videos (.mp4 .avi .mkv .mov .webm .m4v .mpg
 .mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0).
+  --profile P          default (the default profile: threshold quads, refined edges, cells read over
+                       their area) or paper (the 2011 paper's detector exactly, sections III-IV)
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
   --max-hamming K      payload bits corrected at most, 0..16 (default 1)
   --min-margin M       drop detections whose decision_margin is below M, 0..1 (default 0: keep all,
@@ -31,7 +33,7 @@ Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted t
   --distortion k1,k2,p1,p2[,k3]
                        OpenCV lens distortion; needs --camera (corners are undistorted for the pose)
   --tag-size M         edge of the black square in metres (> 0); needs --camera
-  --half-res           segment at half resolution (the paper's faster option)
+  --half-res           find quads at half resolution (the paper's faster option)
   --format json|csv    output format (default json)
   --draw OUT           draw the detections like the paper's Fig. 1 (outline, printed top-left corner
                        as a dot, id at the centre, pose axes x red, y green, z blue, tag size / 2 long;
@@ -41,7 +43,8 @@ Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted t
                        video frames: <name>_frameN.png)
   --debug-dir DIR      the stages of the paper's Figs. 3 and 4 as DIR/<name>_<stage>.png, stages
                        gradient_magnitude, gradient_direction, clusters (at the segmentation's
-                       resolution: half size with --half-res), segments (notch toward the light side),
+                       resolution: half size with --half-res), segments (notch toward the light side)
+                       (these four with --profile paper only: the default profile has no gradients),
                        quads (every candidate; dot on its first corner), samples (the detected tags'
                        sample points: white ring white, black ring black, payload yellow)
   --threads T          images processed in parallel (default: all cores); output order is input order
@@ -53,7 +56,7 @@ a failed input.
 
 JSON output (one document for the whole run):
   {"tool": "tagbench detect",
-   "options": {"families": [names], "max_hamming": K, "min_decision_margin": M, "half_res": bool,
+   "options": {"families": [names], "profile": "default" or "paper", "max_hamming": K, "min_decision_margin": M, "half_res": bool,
                "camera": [fx,fy,cx,cy] or null, "distortion": [k1,k2,p1,p2,k3] or null,
                "tag_size": metres or null},
    "images": [{"input": path or "video#frameN", "frame": N (videos only), "width": W, "height": H,
@@ -103,6 +106,11 @@ std::vector<double> parse_list(const std::string& option, const std::string& tex
 
 Settings parse_settings(const Args& a) {
   Settings s;
+  s.profile = a.get_or("profile", "default");
+  if (s.profile == "paper")
+    s.det = DetectorOptions::paper();
+  else if (s.profile != "default")
+    throw UsageError("--profile " + s.profile + ": expected paper or default");
   if (a.has("family")) s.det.families = a.all("family");
   s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));
   if (const auto m = a.get("min-margin")) s.det.min_decision_margin = parse_double("--min-margin", *m, 0, 1);

@@ -2,6 +2,7 @@
 // tagbench detect: its options (the command line into Settings) and its --help text.
 #include <filesystem>
 #include <optional>
+#include <string>
 
 #include "cli/args.hpp"
 #include "detect/detector.hpp"
@@ -11,6 +12,7 @@ namespace tagbench::cli::detect_cmd {
 namespace fs = std::filesystem;
 
 struct Settings {
+  std::string profile = "default";  // "default" or "paper" (--profile)
   DetectorOptions det;
   bool csv = false;
   std::optional<fs::path> draw;

@@ -148,7 +148,10 @@ std::vector<cv::Mat> stage_pictures(const ImageF& gray, const DetectorTrace& tr,
   std::vector<cv::Mat> pics;
   const ImageF& mag = tr.gradient_magnitude;
   const ImageF& dir = tr.gradient_direction;
-
+  // A quad finder without gradients (the default profile's threshold finder) has no gradient,
+  // cluster or segment stage: those pictures are empty and not written.
+  if (mag.empty()) pics.assign(4, cv::Mat());
+  if (!mag.empty()) {
   // Gradient magnitude (the square root of the stored squared magnitude), scaled to its maximum.
   {
     float mx = 0;
@@ -200,6 +203,7 @@ std::vector<cv::Mat> stage_pictures(const ImageF& gray, const DetectorTrace& tr,
     }
     pics.push_back(m);
   }
+  }  // gradient stages
   // Every candidate quad; a dot on its first corner.
   {
     cv::Mat m = gray_bgr(gray, 0.5);

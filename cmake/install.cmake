@@ -30,8 +30,10 @@ install(FILES include/tagbench/detector.hpp include/tagbench/family.hpp include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tagbench COMPONENT dev)
 foreach(h codes/bits.hpp codes/hamming_scan.hpp codes/tag_family.hpp codes/families.hpp codes/tag_layout.hpp
           detect/detector.hpp detect/detector_opencv.hpp detect/image.hpp detect/line_fit.hpp
-          detect/payload_decode.hpp detect/pose.hpp detect/quad_search.hpp detect/segmentation.hpp
-          detect/gradient.hpp detect/homography.hpp)
+          detect/payload_decode.hpp detect/payload_area.hpp detect/pose.hpp detect/quad_search.hpp
+          detect/segmentation.hpp detect/gradient.hpp detect/homography.hpp detect/threshold_quads.hpp
+          detect/threshold.hpp detect/components.hpp detect/boundaries.hpp detect/quad_fit.hpp
+          detect/edge_refine.hpp)
   get_filename_component(dir ${h} DIRECTORY)
   install(FILES detector/${h} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tagbench/detail/${dir} COMPONENT dev)
 endforeach()

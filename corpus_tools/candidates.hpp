@@ -49,7 +49,7 @@ struct CandidateRecord {
 // (quads whose payload cannot be read at some d get no record for that d). `quads`, if given,
 // receives the number of candidate quads.
 std::vector<CandidateRecord> image_candidates(const ImageF& gray, std::uint32_t image_id,
-                                              const DetectorOptions& opt = {}, std::size_t* quads = nullptr);
+                                              const DetectorOptions& opt = DetectorOptions::paper(), std::size_t* quads = nullptr);
 
 // The detector settings that shape the candidates, as "key=value" lines (stored in the header).
 std::string candidate_settings(const DetectorOptions& opt);

@@ -42,10 +42,12 @@ py::array_t<double> corners_array(const Corners& corners) {
   return out;
 }
 
-// The profiles by name: "default" is DetectorOptions{} (the paper's detector).
+// The profiles by name (detector.hpp): "default" is DetectorOptions{}, "paper" DetectorOptions::paper()
+// (the 2011 paper's detector, bit-exact).
 DetectorOptions profile_options(const std::string& profile) {
   if (profile == "default") return DetectorOptions{};
-  throw std::invalid_argument("profile = '" + profile + "': unknown (known: default)");
+  if (profile == "paper") return DetectorOptions::paper();
+  throw std::invalid_argument("profile = '" + profile + "': unknown (known: default, paper)");
 }
 
 DetectorOptions make_options(const std::vector<std::string>& families, int max_hamming, double min_decision_margin,
@@ -119,7 +121,9 @@ PYBIND11_MODULE(tagbench, m) {
 
   py::class_<Detector>(m, "Detector",
                        "Detector(families=['36h11'], max_hamming=1, min_decision_margin=0, camera=None, "
-                       "distortion=None, tag_size=None, half_resolution=False, profile='default'). camera: "
+                       "distortion=None, tag_size=None, half_resolution=False, profile='default'). profile: 'default' "
+                       "(DetectorOptions{}) or 'paper' (DetectorOptions::paper(), the 2011 paper's detector); the "
+                       "other keywords are set on top of the profile's options. camera: "
                        "(fx, fy, cx, cy) pixels; tag_size: the black square's edge, metres (poses need both); "
                        "distortion: OpenCV's (k1, k2, p1, p2, k3). ValueError names a bad option.")
       .def(py::init([](const std::vector<std::string>& families, int max_hamming, double min_decision_margin,

@@ -35,8 +35,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 STEMS = {"angle": "fig9_angle", "distance": "fig10_distance", "conditions": "conditions"}
 STYLE = {  # detector: (label, colour, line style)
-    "tagbench-full": ("ours, full resolution", "tab:blue", "-"),
-    "tagbench-half": ("ours, half resolution", "tab:cyan", "--"),
+    "tagbench": ("ours (default profile), full resolution", "tab:purple", "-"),
+    "tagbench-half": ("ours (default profile), half resolution", "tab:pink", "--"),
+    "tagbench-paper": ("ours (paper profile), full resolution", "tab:blue", "-"),
+    "tagbench-paper-half": ("ours (paper profile), half resolution", "tab:cyan", "--"),
     "libapriltag-d1": ("libapriltag 3.3, decimate 1", "tab:orange", "-"),
     "libapriltag-d2": ("libapriltag 3.3, decimate 2", "tab:red", "--"),
     "aruco": ("OpenCV 4.6 aruco (APRILTAG refine)", "tab:green", "-"),

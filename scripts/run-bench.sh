@@ -26,14 +26,14 @@ cp "$tmp" results/decode_speed.json.tmp && mv results/decode_speed.json.tmp resu
 echo "bench: example detection and the stage pictures of the paper's Figs. 3 and 4" >&2
 mkdir -p results/debug
 "$BIN" scene --width 640 --height 480 --count 6 --seed 3 -o results/example_scene.png
-"$BIN" detect results/example_scene.png --draw results/example_detections.png --debug-dir results/debug \
+"$BIN" detect results/example_scene.png --profile paper --draw results/example_detections.png --debug-dir results/debug \
   --camera 500,500,319.5,239.5 --tag-size 0.1 > results/example_detections.json
 
-echo "bench: detector speed beside libapriltag and OpenCV aruco (Google Benchmark)" >&2
+echo "bench: our per-stage times on synthetic scenes beside libapriltag and OpenCV aruco (Google Benchmark)" >&2
 "$BUILD/bench/bench_detector" --benchmark_out="$tmp" --benchmark_out_format=json --benchmark_min_time=0.5 >&2
 TAGBENCH_CPU="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')" \
-  "$PY" scripts/speed_to_csv.py "$tmp" results/speed.csv
-cp "$tmp" results/speed.json.tmp && mv results/speed.json.tmp results/speed.json
+  "$PY" scripts/speed_to_csv.py "$tmp" results/speed_stages.csv
+cp "$tmp" results/speed_stages.json.tmp && mv results/speed_stages.json.tmp results/speed_stages.json
 
 echo "bench: ray-traced localization (paper Figs. 9 and 10, and conditions beyond the paper)" >&2
 # Frames are cached in $BUILD/raytrace-cache: a rerun renders nothing, an interrupted run resumes.
@@ -77,6 +77,10 @@ echo "bench: false positives on the corpus (paper Figs. 6 and 7, whole detectors
 # 16h5 and 25h9 frames (true side: distance sweep, noise and blur), frames cached with the others.
 "$BIN" falsepos margin --corpus "$CORPUS" --out results --trials 50 --cache "$RT_CACHE" --jobs "$JOBS"
 "$PY" scripts/plot_falsepos.py results
+
+echo "bench: detector speed on four image sets (corpus, ray-traced frames, realistic set, synthetic scenes)" >&2
+# Every detector single-threaded in one process, alternating image by image; ratios per image.
+"$BIN" speed --corpus "$CORPUS" --cache "$RT_CACHE" --out results
 
 "$PY" scripts/update_readme.py README.md results
 echo "bench: results/ and README.md updated" >&2

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Turns bench_detector's Google Benchmark JSON into results/speed.csv: one row per detector, mode and
+"""Turns bench_detector's Google Benchmark JSON into results/speed_stages.csv: one row per detector, mode and
 resolution (milliseconds per frame, single thread), our per-stage times, and the ratio of ours to
 libapriltag at the matching setting (full resolution vs decimate 1, half vs decimate 2).
 Usage: speed_to_csv.py REPORT.json OUT.csv   (OUT written atomically)"""

@@ -17,9 +17,10 @@
 namespace tagbench::bench {
 
 struct FpDetectorsOptions {
-  // tagbench-full: our detector's defaults (1 bit corrected); libapriltag-d2: libapriltag 3.3's
-  // defaults (quad_decimate 2, 2 bits corrected); aruco-default: OpenCV 4.6 aruco's defaults.
-  std::vector<std::string> detectors = {"tagbench-full", "libapriltag-d2", "aruco-default"};
+  // tagbench: our default profile; tagbench-paper: the paper's detector (both 1 bit corrected);
+  // libapriltag-d2: libapriltag 3.3's defaults (quad_decimate 2, 2 bits corrected); aruco-default:
+  // OpenCV 4.6 aruco's defaults.
+  std::vector<std::string> detectors = {"tagbench", "tagbench-paper", "libapriltag-d2", "aruco-default"};
   std::vector<std::string> families = {"16h5", "25h9", "36h11"};
   int jobs = 0;  // images at once; 0: all cores. The results do not depend on it.
 };

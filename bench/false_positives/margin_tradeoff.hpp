@@ -31,7 +31,7 @@ std::vector<double> default_margin_thresholds();
 void check_margin_thresholds(const std::vector<double>& thresholds);
 
 // The detector whose detections are scored (our detector at its defaults, margin 0).
-inline constexpr const char* kMarginDetector = "tagbench-full";
+inline constexpr const char* kMarginDetector = "tagbench-paper";
 
 struct MarginPartStats {
   std::string part;                // "distance" or a condition name

@@ -44,13 +44,45 @@ void check_setup(const ComparatorSetup& s) {
 
 // ---- ours ------------------------------------------------------------------------------------------
 
+// A variant's settings after the base name, '/'-separated KEY=VALUE (experiments: each change of the
+// default profile measured on its own), e.g. "tagbench/finder=gradient/sharpen=0.25".
+void apply_variant(DetectorOptions& o, const std::string& spec, const std::string& name) {
+  std::size_t pos = 0;
+  while (pos < spec.size()) {
+    const std::size_t end = std::min(spec.find('/', pos), spec.size());
+    const std::string kv = spec.substr(pos, end - pos);
+    pos = end + 1;
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw std::invalid_argument("detector '" + name + "': '" + kv + "' is not KEY=VALUE");
+    const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
+    const double x = std::strtod(v.c_str(), nullptr);
+    if (k == "finder") o.quad_finder = v == "gradient" ? QuadFinderKind::kGradient : QuadFinderKind::kThreshold;
+    else if (k == "reader") o.payload_reader = v == "point" ? PayloadReaderKind::kPoint : PayloadReaderKind::kArea;
+    else if (k == "k") o.payload_area.samples_per_side = static_cast<int>(x);
+    else if (k == "extent") o.payload_area.sample_extent = x;
+    else if (k == "sharpen") o.payload_area.sharpening = x;
+    else if (k == "refine") o.threshold_quads.refine_edges = x != 0;
+    else if (k == "gamma") o.threshold_quads.refine.gamma = x;
+    else if (k == "hamming") o.max_hamming = static_cast<int>(x);
+    else if (k == "tile") o.threshold_quads.threshold.tile_size = static_cast<int>(x);
+    else if (k == "contrast") o.threshold_quads.threshold.min_contrast = static_cast<float>(x);
+    else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);
+    else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
+    else if (k == "margin") o.min_decision_margin = x;
+    else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
+  }
+}
+
 class Ours final : public Comparator {
  public:
-  Ours(std::string name, const ComparatorSetup& s, bool half) : Comparator(std::move(name)), detector_(options(s, half)) {}
+  // paper: DetectorOptions::paper(), else the default profile; variant: see apply_variant.
+  Ours(std::string name, const ComparatorSetup& s, bool paper, bool half, const std::string& variant = "")
+      : Comparator(name), detector_(options(s, paper, half, variant, name)) {}
 
  private:
-  static DetectorOptions options(const ComparatorSetup& s, bool half) {
-    DetectorOptions o;
+  static DetectorOptions options(const ComparatorSetup& s, bool paper, bool half, const std::string& variant,
+                                 const std::string& name) {
+    DetectorOptions o = paper ? DetectorOptions::paper() : DetectorOptions{};
     o.families = {s.family};
     o.half_resolution = half;
     if (wants_pose(s)) {
@@ -58,6 +90,7 @@ class Ours final : public Comparator {
       o.tag_size = s.tag_size;
       o.distortion = s.distortion;
     }
+    apply_variant(o, variant, name);
     return o;
   }
 
@@ -242,9 +275,15 @@ class Aruco final : public Comparator {
 }  // namespace
 
 const std::vector<std::string>& comparator_names() {
-  static const std::vector<std::string> names{"tagbench-full", "tagbench-half", "libapriltag-d1", "libapriltag-d2",
-                                              "aruco"};
+  static const std::vector<std::string> names{"tagbench",       "tagbench-half",  "tagbench-paper", "tagbench-paper-half",
+                                              "libapriltag-d1", "libapriltag-d2", "aruco"};
   return names;
+}
+
+bool is_ours_variant(const std::string& name) {
+  for (const char* base : {"tagbench", "tagbench-half", "tagbench-paper", "tagbench-paper-half"})
+    if (name.rfind(std::string(base) + "/", 0) == 0) return true;
+  return false;
 }
 
 const std::vector<std::string>& known_comparator_names() {
@@ -258,8 +297,13 @@ const std::vector<std::string>& known_comparator_names() {
 
 std::unique_ptr<Comparator> make_comparator(const std::string& name, const ComparatorSetup& setup) {
   check_setup(setup);
-  if (name == "tagbench-full") return std::make_unique<Ours>(name, setup, false);
-  if (name == "tagbench-half") return std::make_unique<Ours>(name, setup, true);
+  for (const char* base : {"tagbench", "tagbench-half", "tagbench-paper", "tagbench-paper-half"}) {
+    const std::string b = base;
+    if (name != b && name.rfind(b + "/", 0) != 0) continue;
+    const std::string variant = name.size() > b.size() ? name.substr(b.size() + 1) : "";
+    return std::make_unique<Ours>(name, setup, b.find("paper") != std::string::npos,
+                                  b.find("half") != std::string::npos, variant);
+  }
   if (name == "libapriltag-d1") return std::make_unique<LibAprilTag>(name, setup, 1.0f);
   if (name == "libapriltag-d2") return std::make_unique<LibAprilTag>(name, setup, 2.0f);
   if (name == "aruco") return std::make_unique<Aruco>(name, setup, true);

@@ -5,8 +5,13 @@
 // (origin at the centre, x toward the printed right edge, y toward the bottom edge, z into the tag)
 // into the camera frame (x right, y down, z forward), metres.
 //
-//   tagbench-full    our detector (detect/detector.hpp), full resolution
-//   tagbench-half    our detector segmenting at half resolution
+//   tagbench         our detector's default profile (detect/detector.hpp), full resolution
+//   tagbench-half    the default profile finding quads at half resolution
+//   tagbench-paper   the paper's detector (DetectorOptions::paper()), full resolution
+//   tagbench-paper-half  the paper's detector segmenting at half resolution
+//   NAME/KEY=V/...   one of the four with options changed, for experiments (comparators.cpp's
+//                    apply_variant: finder, reader, k, extent, sharpen, refine, gamma, hamming, tile,
+//                    contrast, minpix, minwidth, margin)
 //   libapriltag-d1   AprilTag 3.3 (libapriltag), quad_decimate 1, nthreads 1, its other defaults
 //                    (refine_edges 1, decode_sharpening 0.25, 2 corrected bits); pose by its estimate_tag_pose
 //   libapriltag-d2   the same at quad_decimate 2 (its default)
@@ -89,10 +94,13 @@ class Comparator {
   std::string name_;
 };
 
-// The localization sweeps' detectors: "tagbench-full", "tagbench-half", "libapriltag-d1",
-// "libapriltag-d2", "aruco".
+// The localization sweeps' detectors: "tagbench", "tagbench-half", "tagbench-paper",
+// "tagbench-paper-half", "libapriltag-d1", "libapriltag-d2", "aruco".
 const std::vector<std::string>& comparator_names();
-// Every name make_comparator knows: the above and "aruco-default".
+// Every name make_comparator knows: the above and "aruco-default" (and ours' variants, below).
+// true for one of our four names followed by "/KEY=VALUE..." (an experiment's variant; make_comparator
+// checks the keys).
+bool is_ours_variant(const std::string& name);
 const std::vector<std::string>& known_comparator_names();
 
 // Throws std::invalid_argument for an unknown name, a family the detector does not support, or a

@@ -324,7 +324,7 @@ SweepSettings resolve_settings(const SweepSettings& in) {
   std::set<std::string> seen;
   for (const auto& d : s.detectors) {
     const auto& known = comparator_names();
-    if (std::find(known.begin(), known.end(), d) == known.end()) {
+    if (std::find(known.begin(), known.end(), d) == known.end() && !is_ours_variant(d)) {
       std::string list;
       for (const auto& n : known) list += (list.empty() ? "" : ", ") + n;
       throw std::invalid_argument("unknown detector '" + d + "' (" + list + ")");

@@ -71,7 +71,7 @@ RealisticRunSettings resolve_run_settings(const RealisticRunSettings& in) {
   for (std::size_t i = 0; i < s.detectors.size(); ++i) {
     std::string list;
     for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-    if (std::find(known.begin(), known.end(), s.detectors[i]) == known.end())
+    if (std::find(known.begin(), known.end(), s.detectors[i]) == known.end() && !is_ours_variant(s.detectors[i]))
       throw std::invalid_argument("unknown detector '" + s.detectors[i] + "' (" + list + ")");
     if (std::find(s.detectors.begin(), s.detectors.begin() + static_cast<std::ptrdiff_t>(i), s.detectors[i]) !=
         s.detectors.begin() + static_cast<std::ptrdiff_t>(i))

@@ -249,7 +249,7 @@ std::function<std::string()> text(const std::string& t) {
 // second), so that a run under a file size limit needs no rendering and fails only on its results.
 void cached_raytrace_frame(const fs::path& d) {
   const ChildRun r = run_child(d,
-                               {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full",
+                               {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-paper",
                                 "--cache", "cache", "--processes", "1", "--out", "setup-out"},
                                {});
   if (!WIFEXITED(r.status) || WEXITSTATUS(r.status) != 0) throw std::runtime_error("rendering the frame failed: " + r.err);
@@ -343,10 +343,10 @@ const std::vector<Case>& cases() {
       {"detect_draw_under_a_regular_file", all({kTag, kRegularFile}), {"detect", "tag.png", "--draw", "file.txt/drawn.png"},
        1, {"tag.png: cannot write file.txt/drawn.png"}},
       {"detect_debug_dir_under_a_regular_file", all({kTag, kRegularFile}),
-       {"detect", "tag.png", "--debug-dir", "file.txt/dbg"}, 1, {"tag.png: cannot create directory file.txt/dbg"}},
+       {"detect", "--profile", "paper", "tag.png", "--debug-dir", "file.txt/dbg"}, 1, {"tag.png: cannot create directory file.txt/dbg"}},
       {"detect_draw_disk_full", kTag, {"detect", "tag.png", "--draw", "drawn.png"}, 1,
        {"tag.png: cannot write drawn.png", "File too large"}, {.fsize = 1024}},
-      {"detect_debug_dir_disk_full", kTag, {"detect", "tag.png", "--debug-dir", "dbg"}, 1,
+      {"detect_debug_dir_disk_full", kTag, {"detect", "--profile", "paper", "tag.png", "--debug-dir", "dbg"}, 1,
        {"tag.png: cannot write dbg/tag_", "File too large"}, {.fsize = 1024}},
 
       // --- render ---
@@ -411,19 +411,19 @@ const std::vector<Case>& cases() {
 
       // --- raytrace ---
       {"raytrace_povray_not_on_path", all({folder("emptybin"), folder("cache")}),
-       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache", "--out",
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-paper", "--cache", "cache", "--out",
         "out"},
        1, {"povray not found: install the Debian package povray"}, {.path = "emptybin"}},
       {"raytrace_povray_path_missing", folder("cache"),
-       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache",
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-paper", "--cache", "cache",
         "--povray", "./nopovray", "--out", "out"},
        1, {"povray not found"}},
       {"raytrace_disk_full", all({folder("cache"), folder("out"), cached_raytrace_frame}),
-       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache", "--out",
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-paper", "--cache", "cache", "--out",
         "out"},
        1, {"cannot write out/fig9_angle", "File too large"}, {.fsize = 1024}},
       {"raytrace_disk_full_new_out_folder", all({folder("cache"), cached_raytrace_frame}),
-       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache", "--out",
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-paper", "--cache", "cache", "--out",
         "new"},
        1, {"cannot write new/fig9_angle", "File too large"}, {.fsize = 1024}},
       {"raytrace_unknown_family", {}, {"raytrace", "distance", "--family", "36h99", "--out", "out"}, 2,
@@ -434,12 +434,12 @@ const std::vector<Case>& cases() {
       {"raytrace_angle_90", {}, {"raytrace", "angle", "--angles", "0,90", "--out", "out"}, 2, {"90"}},
       {"raytrace_trials_0", {}, {"raytrace", "angle", "--trials", "0", "--out", "out"}, 2, {"trials"}},
       {"raytrace_tag_size_negative", {}, {"raytrace", "distance", "--tag-size", "-1", "--out", "out"}, 2, {"tag size"}},
-      {"raytrace_unknown_detector", {}, {"raytrace", "angle", "--detectors", "tagbench-full,bogus", "--out", "out"}, 2,
+      {"raytrace_unknown_detector", {}, {"raytrace", "angle", "--detectors", "tagbench-paper,bogus", "--out", "out"}, 2,
        {"bogus"}},
       {"raytrace_processes_0", {}, {"raytrace", "angle", "--processes", "0", "--out", "out"}, 2,
        {"--processes: 0 is outside 1..256"}},
       {"raytrace_out_under_a_regular_file", all({kRegularFile, folder("cache")}),
-       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-full", "--cache", "cache", "--out",
+       {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-paper", "--cache", "cache", "--out",
         "file.txt/out"},
        2, {"--out file.txt/out: file.txt is not a directory"}},
       {"raytrace_out_is_a_regular_file", kRegularFile, {"raytrace", "angle", "--out", "file.txt"}, 2,

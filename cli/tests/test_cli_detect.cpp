@@ -565,7 +565,7 @@ TEST(CliDetect, DebugDirWritesTheSixStages) {
   const char* stages[] = {"gradient_magnitude", "gradient_direction", "clusters", "segments", "quads", "samples"};
   for (const bool half : {false, true}) {
     const fs::path dbg = dir / (half ? "dbg_half" : "dbg");
-    const Result r = run("detect --family 25h9 " + q(dir / "in.png") + " --debug-dir " + q(dbg) +
+    const Result r = run("detect --profile paper --family 25h9 " + q(dir / "in.png") + " --debug-dir " + q(dbg) +
                          (half ? " --half-res" : ""));
     ASSERT_EQ(r.code, 0) << r.err;
     ASSERT_EQ(parse_json(r.out)["images"][0]["detections"].size(), 1u);
@@ -630,8 +630,28 @@ TEST(CliDetect, DebugDirWritesTheSixStages) {
     }
   // Deterministic: a second run gives identical cluster colours.
   const fs::path dbg2 = dir / "dbg2";
-  ASSERT_EQ(run("detect --family 25h9 " + q(dir / "in.png") + " --debug-dir " + q(dbg2)).code, 0);
+  ASSERT_EQ(run("detect --profile paper --family 25h9 " + q(dir / "in.png") + " --debug-dir " + q(dbg2)).code, 0);
   EXPECT_EQ(slurp(dbg / "in_clusters.png"), slurp(dbg2 / "in_clusters.png"));
+}
+
+TEST(CliDetect, ProfilesAreNamedAndTheDefaultHasNoGradientPictures) {
+  const fs::path dir = fresh("profiles");
+  write_png(dir / "in.png", padded(rendered_tag(9, 12), 50, 40, 240, 200));
+  const fs::path dbg = dir / "dbg";
+  const Result r = run("detect --family 25h9 " + q(dir / "in.png") + " --debug-dir " + q(dbg));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto doc = parse_json(r.out);
+  EXPECT_EQ(doc["options"]["profile"].str, "default");
+  ASSERT_EQ(doc["images"][0]["detections"].size(), 1u);
+  EXPECT_TRUE(fs::exists(dbg / "in_quads.png"));
+  EXPECT_TRUE(fs::exists(dbg / "in_samples.png"));
+  EXPECT_FALSE(fs::exists(dbg / "in_clusters.png"));
+  const Result p = run("detect --profile paper --family 25h9 " + q(dir / "in.png"));
+  ASSERT_EQ(p.code, 0) << p.err;
+  EXPECT_EQ(parse_json(p.out)["options"]["profile"].str, "paper");
+  const Result bad = run("detect --profile fast " + q(dir / "in.png"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--profile fast: expected paper or default"), std::string::npos) << bad.err;
 }
 
 TEST(CliDetect, VideoFramesAreEachAResult) {

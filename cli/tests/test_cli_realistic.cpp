@@ -47,7 +47,7 @@ std::string without_ms(const std::string& csv) {  // the timing column is the la
 
 TEST(CliRealistic, SmallRunWritesItsFilesWithHeaders) {
   const fs::path out = scratch() / "run1", frames = scratch() / "frames";
-  const Result r = run("--frames 2 --seed 5 --detectors tagbench-full,libapriltag-d1 --out " + out.string() +
+  const Result r = run("--frames 2 --seed 5 --detectors tagbench-paper,libapriltag-d1 --out " + out.string() +
                        " --export-frames " + frames.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const auto rows = lines(slurp(out / "realistic.csv"));
@@ -75,14 +75,14 @@ TEST(CliRealistic, SmallRunWritesItsFilesWithHeaders) {
   EXPECT_TRUE(fs::exists(frames / "set.json"));
   // A rerun writes the same rows, timing aside.
   const fs::path out2 = scratch() / "run2";
-  ASSERT_EQ(run("--frames 2 --seed 5 --detectors tagbench-full,libapriltag-d1 --out " + out2.string()).code, 0);
+  ASSERT_EQ(run("--frames 2 --seed 5 --detectors tagbench-paper,libapriltag-d1 --out " + out2.string()).code, 0);
   EXPECT_EQ(without_ms(slurp(out / "realistic.csv")), without_ms(slurp(out2 / "realistic.csv")));
   EXPECT_EQ(slurp(out / "realistic_summary.csv"), slurp(out2 / "realistic_summary.csv"));
 }
 
 TEST(CliRealistic, BadOptionsAreOneLineAndWriteNothing) {
   const fs::path out = scratch() / "never";
-  for (const std::string bad : {"--frames 0", "--frames x", "--family 99h99", "--detectors tagbench-full,nope",
+  for (const std::string bad : {"--frames 0", "--frames x", "--family 99h99", "--detectors tagbench-paper,nope",
                                 "--detectors aruco,aruco", "--detectors ,", "--bogus 1", "extra"}) {
     const Result r = run(bad + " --out " + out.string());
     EXPECT_EQ(r.code, 2) << bad;

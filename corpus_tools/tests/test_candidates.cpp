@@ -104,7 +104,7 @@ Result run(const std::string& args) {
 }
 
 const CandidateStore& store1() {
-  static const CandidateStore s = extract_candidates(corpus_dir(), corpus_images(corpus_dir()), DetectorOptions{}, 1);
+  static const CandidateStore s = extract_candidates(corpus_dir(), corpus_images(corpus_dir()), DetectorOptions::paper(), 1);
   return s;
 }
 
@@ -120,7 +120,7 @@ fs::path side_dir(const std::string& name) {
 
 TEST(Candidates, RenderedTagIsAmongTheCandidatesWithItsCode) {
   std::size_t quads = 0;
-  const auto recs = image_candidates(load("tag.png"), 3, DetectorOptions{}, &quads);
+  const auto recs = image_candidates(load("tag.png"), 3, DetectorOptions::paper(), &quads);
   ASSERT_GT(quads, 0u);
   const TagFamily& f = builtin_family("36h11");
   const Code code = f.codes()[kTagId];
@@ -154,7 +154,7 @@ TEST(Candidates, RenderedTagIsAmongTheCandidatesWithItsCode) {
 
 TEST(Candidates, BlankImageHasNone) {
   std::size_t quads = 99;
-  EXPECT_TRUE(image_candidates(load("blank.png"), 0, DetectorOptions{}, &quads).empty());
+  EXPECT_TRUE(image_candidates(load("blank.png"), 0, DetectorOptions::paper(), &quads).empty());
   EXPECT_EQ(quads, 0u);
 }
 
@@ -190,9 +190,9 @@ TEST(Candidates, StoreRoundTripAndJobsIndependence) {
   EXPECT_EQ(r.quads, s.quads);
   EXPECT_EQ(r.images, s.images);
   EXPECT_EQ(r.records, s.records);
-  EXPECT_EQ(r.settings, candidate_settings(DetectorOptions{}));
+  EXPECT_EQ(r.settings, candidate_settings(DetectorOptions::paper()));
   // Two workers give the same bytes.
-  const auto s2 = extract_candidates(corpus_dir(), corpus_images(corpus_dir()), DetectorOptions{}, 2);
+  const auto s2 = extract_candidates(corpus_dir(), corpus_images(corpus_dir()), DetectorOptions::paper(), 2);
   EXPECT_EQ(encode_candidates(s2), encode_candidates(s));
   EXPECT_EQ(candidate_index_tsv(s2.images), candidate_index_tsv(s.images));
 }
@@ -330,7 +330,7 @@ TEST(Candidates, ListingDoesNotDecodeAndFilesThatDoNotDecodeAreUnreadableRows) {
   EXPECT_EQ(imgs[2].file, "tag.png");
   EXPECT_EQ(imgs[2].width, 0);
   // The extraction decodes each image once: sizes filled in, the cut file an unreadable row.
-  const auto st = extract_candidates(d, imgs, DetectorOptions{}, 2);
+  const auto st = extract_candidates(d, imgs, DetectorOptions::paper(), 2);
   ASSERT_EQ(st.images.size(), 3u);
   EXPECT_EQ(st.images[0].status, "unreadable");
   EXPECT_FALSE(st.images[0].reason.empty());
@@ -456,7 +456,7 @@ TEST(CandidateShards, RangesAreContiguousBalancedAndCoverTheList) {
 
 TEST(CandidateShards, SettingsLinesRoundTrip) {
   const ShardInfo info{{2, 5}, 7, 19, 0x0123456789abcdefULL, 0xfedcba9876543210ULL};
-  const std::string base = candidate_settings(DetectorOptions{});
+  const std::string base = candidate_settings(DetectorOptions::paper());
   const std::string lines = shard_settings_lines(info);
   EXPECT_EQ(lines,
             "shard=2/5\nshard_first_row=7\ncorpus_images=19\ncorpus_list_fnv1a=0123456789abcdef\n"
@@ -489,7 +489,7 @@ namespace {
 // Shard i of n of the test corpus, written to and read back from files as `corpus candidates
 // --shard` and `corpus merge` do, so the index goes through its .tsv.
 CandidateStore shard_store(std::uint64_t i, std::uint64_t n, int jobs = 1) {
-  const auto s = extract_candidate_shard(corpus_dir(), corpus_images(corpus_dir()), {i, n}, DetectorOptions{}, jobs);
+  const auto s = extract_candidate_shard(corpus_dir(), corpus_images(corpus_dir()), {i, n}, DetectorOptions::paper(), jobs);
   const fs::path bin = corpus_dir() / "shards" / (std::to_string(i) + "of" + std::to_string(n) + ".bin");
   fs::create_directories(bin.parent_path());
   write_candidates(bin, s);
@@ -594,14 +594,14 @@ TEST(CandidateShards, MergeRefusesWhatDoesNotFit) {
     extra.file = "zzz_added.jpg";
     images.push_back(extra);  // unreadable, so nothing is decoded: only the list differs
     auto v = good;
-    v[2] = extract_candidate_shard(corpus_dir(), images, {2, 3}, DetectorOptions{}, 1);
+    v[2] = extract_candidate_shard(corpus_dir(), images, {2, 3}, DetectorOptions::paper(), 1);
     const auto e = merge_error(v, names);
     EXPECT_EQ(e.rfind("c.bin: made from a corpus list of 7 images", 0), 0u) << e;
     EXPECT_NE(e.find("a.bin from one of 6"), std::string::npos) << e;
     EXPECT_NE(e.find("the corpus changed"), std::string::npos) << e;
     // The same count with another file is caught by the list's hash.
     images.erase(images.begin());  // blank.png gone: 6 again
-    v[2] = extract_candidate_shard(corpus_dir(), images, {2, 3}, DetectorOptions{}, 1);
+    v[2] = extract_candidate_shard(corpus_dir(), images, {2, 3}, DetectorOptions::paper(), 1);
     EXPECT_EQ(merge_error(v, names).rfind("c.bin: made from a corpus list of 6 images", 0), 0u)
         << merge_error(v, names);
   }

@@ -11,11 +11,17 @@ namespace tagbench {
 
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
-                                    const PayloadOptions& payload, std::vector<PayloadReading>* readings,
+                                    const PayloadOptions& payload, const PayloadAreaOptions* area,
+                                    std::vector<PayloadReading>* readings,
                                     std::vector<QuadOutcome>* outcomes) {
   std::vector<Detection> found;
   int max_d = 0;
   for (const TagFamily& f : families) max_d = std::max(max_d, f.payload_width());
+  std::optional<PayloadAreaOptions> area_opt;
+  if (area) {
+    area_opt = *area;
+    area_opt->min_contrast = payload.min_contrast;
+  }
   QuadOutcome scratch;
   for (const Quad& q : quads) {
     QuadOutcome& outcome = outcomes ? outcomes->emplace_back() : (scratch = QuadOutcome());
@@ -33,7 +39,8 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
     for (const TagFamily& f : families) {
       const auto d = static_cast<std::size_t>(f.payload_width());
       if (!read[d]) {
-        by_width[d] = read_payload(decode_image, *H, static_cast<int>(d), payload, readings != nullptr);
+        by_width[d] = area_opt ? read_payload_area(decode_image, *H, static_cast<int>(d), *area_opt, readings != nullptr)
+                               : read_payload(decode_image, *H, static_cast<int>(d), payload, readings != nullptr);
         read[d] = true;
         if (by_width[d]) {
           outcome.bits[d] = by_width[d]->bits;

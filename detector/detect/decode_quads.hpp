@@ -19,17 +19,21 @@
 #include "codes/tag_family.hpp"
 #include "detect/detector.hpp"
 #include "detect/image.hpp"
+#include "detect/payload_area.hpp"
 #include "detect/payload_decode.hpp"
 #include "detect/quad_search.hpp"
 
 namespace tagbench {
 
+// `area`, if given, reads each payload over the cells' areas (read_payload_area, payload_area.hpp;
+// its min_contrast replaced by payload.min_contrast) instead of at their centres (read_payload).
 // `readings`, if given, receives every reading made (in quad order, then by payload width), with
 // their sample points (for the paper's Fig. 4 pictures). `outcomes`, if given, receives one entry per
 // quad, in order: what became of it (for explain_loss.hpp).
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
-                                    const PayloadOptions& payload, std::vector<PayloadReading>* readings = nullptr,
+                                    const PayloadOptions& payload, const PayloadAreaOptions* area = nullptr,
+                                    std::vector<PayloadReading>* readings = nullptr,
                                     std::vector<QuadOutcome>* outcomes = nullptr);
 
 }  // namespace tagbench

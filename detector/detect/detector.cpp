@@ -9,6 +9,7 @@
 #include "detect/decode_quads.hpp"
 #include "detect/estimate_poses.hpp"
 #include "detect/find_quads_in_image.hpp"
+#include "detect/find_threshold_quads_in_image.hpp"
 #include "detect/suppress_duplicates.hpp"
 #include "detect/workspace_impl.hpp"
 
@@ -46,7 +47,8 @@ std::vector<DetectorWorkspace::Buffer> DetectorWorkspace::buffers() const {
           of("cluster_count", w.seg.count),
           of("cluster_fill", w.seg.fill),
           of("cluster_pixels", w.clusters.pixels),
-          of("cluster_offsets", w.clusters.offsets)};
+          of("cluster_offsets", w.clusters.offsets),
+          of("threshold_half", w.threshold_quads.half.data)};
 }
 
 std::size_t DetectorWorkspace::capacity_bytes() const {
@@ -62,6 +64,7 @@ void DetectorWorkspace::release() {
 Detector::Detector(DetectorOptions options) : opt_(std::move(options)), find_quads_(&find_quads_in_image) {
   for (const auto& f : opt_.families) families_.push_back(load_family(f));
   opt_.validate(families_);
+  if (opt_.quad_finder == QuadFinderKind::kThreshold) find_quads_ = &find_threshold_quads_in_image;
 }
 
 void Detector::check_size(long long width, long long height) const {
@@ -121,6 +124,9 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   // 6. Payloads, decoded against every family; one detection per tag; the margin filter.
   std::vector<Detection> out = suppress_duplicates(decode_quads(*found.decode_image, found.quads, families_,
                                                                 opt_.max_hamming, opt_.payload,
+                                                                opt_.payload_reader == PayloadReaderKind::kArea
+                                                                    ? &opt_.payload_area
+                                                                    : nullptr,
                                                                 trace ? &trace->readings : nullptr,
                                                                 trace ? &trace->quad_outcomes : nullptr));
   drop_below_margin(out, opt_.min_decision_margin);

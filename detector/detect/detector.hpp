@@ -27,16 +27,49 @@
 #include "../codes/tag_family.hpp"
 #include "image.hpp"
 #include "line_fit.hpp"
+#include "payload_area.hpp"
 #include "payload_decode.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
 #include "segmentation.hpp"
+#include "threshold_quads.hpp"
 
 namespace tagbench {
 
+// Which function finds the candidate quads (stages 1-5; the Detector's QuadFinder).
+enum class QuadFinderKind {
+  kGradient,   // the paper's: blur, gradients, clusters, segments, quads (find_quads_in_image.hpp)
+  kThreshold,  // beyond the paper: adaptive threshold, components, boundaries, quad fit, edge
+               // refinement (find_threshold_quads_in_image.hpp)
+};
+
+// How each payload cell is read (stage 6).
+enum class PayloadReaderKind {
+  kPoint,  // the paper's: one bilinear sample at the cell centre (read_payload, payload_decode.hpp)
+  kArea,   // beyond the paper: k x k samples over the cell, optional sharpening (read_payload_area,
+           // payload_area.hpp); min_contrast is PayloadOptions::min_contrast
+};
+
+// Two profiles. The default member values are the DEFAULT profile, what the library and `tagbench
+// detect` use unless told otherwise: the threshold quad finder with edge refinement and the area
+// payload reader (chosen by measurement, README "Default profile"). DetectorOptions::paper() is the
+// paper's detector (sections III-IV) exactly as the reproduction of its experiments uses it.
 struct DetectorOptions {
+  // The paper's detector: the gradient quad finder and point payload reading, every other field at
+  // its default (which is the paper's value, or off for the additions that keep the paper's
+  // results). Every paper experiment (Figs. 6, 7, 9, 10; tagbench-paper in the comparisons) uses it.
+  static DetectorOptions paper();
+
   std::vector<std::string> families = {"36h11"};  // built-in names or family files
   int max_hamming = 1;           // bits corrected at most (Java default; docs/paper-to-code.md section 1)
+  // Default profile: candidate quads from the threshold stage (paper(): kGradient).
+  QuadFinderKind quad_finder = QuadFinderKind::kThreshold;
+  // Options of the threshold quad finder (quad_finder = kThreshold); its `halve` is ignored:
+  // half_resolution below says whether the threshold runs on the half-size image.
+  ThresholdQuadOptions threshold_quads;
+  // Default profile: payload cells read over their area (paper(): kPoint).
+  PayloadReaderKind payload_reader = PayloadReaderKind::kArea;
+  PayloadAreaOptions payload_area;  // for kArea; its min_contrast is ignored (payload.min_contrast is used)
   // Beyond the paper: drop detections whose decision_margin (payload_decode.hpp) is below this, in
   // [0, 1]; 0 keeps every one (the paper's detector). Applied to the final detections, after
   // duplicates are merged, so a run at 0 whose detections are then filtered at m gives exactly what a
@@ -45,7 +78,7 @@ struct DetectorOptions {
   double min_decision_margin = 0;
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
   double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
-  bool half_resolution = false;  // segment at half resolution (the paper's "4x faster" option)
+  bool half_resolution = false;  // find quads at half resolution (the paper's "4x faster" option; both finders)
   SegmentationOptions segmentation;  // K_D, K_M, minMag, ...
   LineFitOptions line_fit;
   QuadSearchOptions quad_search;
@@ -80,6 +113,16 @@ struct DetectorOptions {
   //   quad_search             close_enough one of the rules; min_tag_size, grid_cell finite > 0;
   //                           max_aspect finite >= 1; winding_min < winding_max, both finite; max_quads >= 1;
   //   payload.min_contrast    [0, 1];
+  //   quad_finder, payload_reader  one of the enumerators;
+  //   threshold_quads         blur_sigma finite >= 0; threshold.tile_size 1..256; threshold.min_contrast
+  //                           [0, 1]; boundaries.min_component_pixels >= 1; fit.min_points >= 4,
+  //                           fit.max_maxima 4..64, fit.max_line_fit_mse finite > 0, fit.min_angle_deg
+  //                           [0, 45], fit.min_tag_width finite >= 0, fit.dark_inside or light_inside;
+  //   threshold_quads.refine  (edge_refine.hpp) step_px, derivative_half_px, sample_spacing_px,
+  //                           range_cell_fraction, max_corner_shift_px, gamma finite > 0;
+  //                           0 < min_range_px <= max_range_px, finite; end_margin [0, 0.5);
+  //                           min_samples, iterations, cells_across >= 1;
+  //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
   //                           without; distortion only with a camera, finite;
   //   max_pixels              1..kMaxPixelsCeiling.

@@ -38,7 +38,45 @@ void int_within(const char* field, long long v, long long lo, long long hi) {
   if (v < lo || v > hi) fail(field, v, "must be in " + text(lo) + ".." + text(hi));
 }
 
+void validate_threshold_quads(const ThresholdQuadOptions& q) {
+  finite_at_least("threshold_quads.blur_sigma", q.blur_sigma, 0);
+  int_within("threshold_quads.threshold.tile_size", q.threshold.tile_size, 1, 256);
+  within("threshold_quads.threshold.min_contrast", q.threshold.min_contrast, 0, 1);
+  int_within("threshold_quads.boundaries.min_component_pixels", q.boundaries.min_component_pixels, 1,
+             kMaxPixelsCeiling);
+  int_within("threshold_quads.fit.min_points", q.fit.min_points, 4, kMaxPixelsCeiling);
+  int_within("threshold_quads.fit.max_maxima", q.fit.max_maxima, 4, 64);
+  finite_above("threshold_quads.fit.max_line_fit_mse", q.fit.max_line_fit_mse, 0);
+  within("threshold_quads.fit.min_angle_deg", q.fit.min_angle_deg, 0, 45);
+  finite_at_least("threshold_quads.fit.min_tag_width", q.fit.min_tag_width, 0);
+  if (!q.fit.dark_inside && !q.fit.light_inside)
+    fail("threshold_quads.fit.dark_inside", 0LL, "dark_inside and light_inside both false: no quad can be found");
+  const EdgeRefineOptions& r = q.refine;
+  finite_above("threshold_quads.refine.step_px", r.step_px, 0);
+  finite_above("threshold_quads.refine.derivative_half_px", r.derivative_half_px, 0);
+  finite_above("threshold_quads.refine.sample_spacing_px", r.sample_spacing_px, 0);
+  finite_above("threshold_quads.refine.range_cell_fraction", r.range_cell_fraction, 0);
+  finite_above("threshold_quads.refine.max_corner_shift_px", r.max_corner_shift_px, 0);
+  finite_above("threshold_quads.refine.gamma", r.gamma, 0);
+  finite_above("threshold_quads.refine.min_range_px", r.min_range_px, 0);
+  if (!(std::isfinite(r.max_range_px) && r.max_range_px >= r.min_range_px))
+    fail("threshold_quads.refine.max_range_px", r.max_range_px,
+         "must be finite and >= threshold_quads.refine.min_range_px (" + text(r.min_range_px) + ")");
+  if (!(r.end_margin >= 0 && r.end_margin < 0.5))
+    fail("threshold_quads.refine.end_margin", r.end_margin, "must be in [0, 0.5)");
+  int_within("threshold_quads.refine.min_samples", r.min_samples, 1, 1 << 20);
+  int_within("threshold_quads.refine.iterations", r.iterations, 1, 100);
+  int_within("threshold_quads.refine.cells_across", r.cells_across, 1, 64);
+}
+
 }  // namespace
+
+DetectorOptions DetectorOptions::paper() {
+  DetectorOptions o;
+  o.quad_finder = QuadFinderKind::kGradient;
+  o.payload_reader = PayloadReaderKind::kPoint;
+  return o;
+}
 
 void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   if (families.empty()) throw std::invalid_argument("families: empty: give at least one tag family");
@@ -88,6 +126,15 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
     fail("quad_search.max_quads", static_cast<long long>(quad_search.max_quads), "must be >= 1");
 
   within("payload.min_contrast", payload.min_contrast, 0, 1);
+
+  if (quad_finder != QuadFinderKind::kGradient && quad_finder != QuadFinderKind::kThreshold)
+    fail("quad_finder", static_cast<long long>(quad_finder), "must be kGradient or kThreshold");
+  if (payload_reader != PayloadReaderKind::kPoint && payload_reader != PayloadReaderKind::kArea)
+    fail("payload_reader", static_cast<long long>(payload_reader), "must be kPoint or kArea");
+  validate_threshold_quads(threshold_quads);
+  int_within("payload_area.samples_per_side", payload_area.samples_per_side, 1, 16);
+  within("payload_area.sample_extent", payload_area.sample_extent, 0, 1);
+  finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);
 
   if (camera) {
     finite_above("camera.fx", camera->fx, 0);

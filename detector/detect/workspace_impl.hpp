@@ -8,6 +8,7 @@
 #include "detect/gradient.hpp"
 #include "detect/image.hpp"
 #include "detect/segmentation.hpp"
+#include "detect/threshold_quads.hpp"
 
 namespace tagbench {
 
@@ -19,6 +20,7 @@ struct DetectorWorkspace::Impl {
   Gradients gradients;
   SegmentationScratch seg;
   Clusters clusters;
+  ThresholdQuadWorkspace threshold_quads;  // the threshold quad finder's buffers (default profile)
 };
 
 }  // namespace tagbench

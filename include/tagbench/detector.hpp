@@ -2,7 +2,8 @@
 // <tagbench/detector.hpp>: the AprilTag detector of the 2011 paper (E. Olson, ICRA 2011).
 //
 // What a user needs, and nothing of OpenCV (cv::Mat input: <tagbench/opencv.hpp>):
-//   tagbench::DetectorOptions  settings, each with its documented default (the paper's values);
+//   tagbench::DetectorOptions  settings, each with its documented default; the defaults are the
+//                              default profile, DetectorOptions::paper() the 2011 paper's detector;
 //                              validate() names the first bad field in one line
 //   tagbench::Detector         built once from the options (loads the families, validates), then
 //                              detect(image) any number of times
@@ -12,7 +13,7 @@
 //                              homography, pose and pose_alternative (with a camera and a tag size)
 //   tagbench::DetectorWorkspace per-thread buffers reused from frame to frame
 //
-//   tagbench::DetectorOptions opt;            // families {"36h11"}, max_hamming 1, ...
+//   tagbench::DetectorOptions opt;            // default profile: families {"36h11"}, max_hamming 1, ...
 //   opt.camera = tagbench::CameraIntrinsics{fx, fy, cx, cy};
 //   opt.tag_size = 0.166;                     // metres, the black square's edge
 //   const tagbench::Detector detector(opt);   // throws std::invalid_argument on a bad option
@@ -40,8 +41,8 @@
 //
 // The types are those of the library's stage headers (installed under tagbench/detail/, not to be
 // included directly: their names and layout may change between minor versions, this header's
-// names do not). DetectorOptions' nested structs (segmentation, line_fit, quad_search, payload)
-// are the stages' tuning knobs; the defaults are the paper's.
+// names do not). DetectorOptions' nested structs (threshold_quads, segmentation, line_fit,
+// quad_search, payload, ...) are the stages' tuning knobs, documented where they are declared.
 #include <tagbench/detail/detect/detector.hpp>
 #include <tagbench/detail/detect/image.hpp>
 #include <tagbench/detail/detect/pose.hpp>

@@ -18,7 +18,7 @@ PLOT = os.path.join(SRC, "scripts", "plot_raytrace.py")
 # The committed copies: the test needs no ../shared beside the clone.
 EXTERNAL = os.path.join(SRC, "results", "external")
 FILES = ["artoolkitplus_fig10_distance.csv", "java_apriltag1_fig10_distance.csv"]
-OURS = ["ours, full resolution", "OpenCV 4.6 aruco (APRILTAG refine)"]
+OURS = ["ours (paper profile), full resolution", "OpenCV 4.6 aruco (APRILTAG refine)"]
 
 
 class PlotRaytrace(unittest.TestCase):
@@ -27,7 +27,7 @@ class PlotRaytrace(unittest.TestCase):
         cls.tmp = tempfile.mkdtemp(prefix="test_plot_raytrace.")
         cls.sweep = os.path.join(cls.tmp, "sweep")
         subprocess.run([BIN, "raytrace", "distance", "--trials", "2", "--distances", "2,25", "--detectors",
-                        "tagbench-full,aruco", "--processes", "1", "--cache", os.path.join(cls.tmp, "cache"),
+                        "tagbench-paper,aruco", "--processes", "1", "--cache", os.path.join(cls.tmp, "cache"),
                         "--out", cls.sweep], check=True, capture_output=True)
 
     @classmethod

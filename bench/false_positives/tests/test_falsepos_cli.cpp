@@ -116,7 +116,7 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
 
   // Whole detectors: every one of ours and aruco's finds the five tags, nothing else.
   r = run_tagbench("falsepos detectors --corpus " + corpus.string() + " --out " + out.string() +
-                       " --detectors tagbench-full,aruco-default --families 36h11 --jobs 2",
+                       " --detectors tagbench-paper,aruco-default --families 36h11 --jobs 2",
                    s.path());
   ASSERT_EQ(r.code, 0) << r.err;
   const auto det = read_csv(out / "fp_detectors.csv");

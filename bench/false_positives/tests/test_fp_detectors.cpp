@@ -66,7 +66,7 @@ TEST(FpDetectors, CountsEveryDetectionPerImageMegapixelAndGroup) {
         ++n36;
         EXPECT_TRUE(d.image == 0 || d.image == 3) << det;
         // Clean synthetic tags: ours reads them with a clear margin; aruco reports none.
-        if (det == "tagbench-full") {
+        if (det == "tagbench-paper") {
           EXPECT_GT(d.decision_margin, 0.5);
         }
         if (det == "aruco-default") {
@@ -116,7 +116,7 @@ TEST(FpDetectors, TheNumberOfThreadsChangesNothing) {
   tagbench::testing::ScratchDir tmp("tagbench_fpdet");
   const auto images = make_corpus(tmp.path());
   FpDetectorsOptions o;
-  o.detectors = {"tagbench-full", "libapriltag-d2"};
+  o.detectors = {"tagbench-paper", "libapriltag-d2"};
   o.families = {"36h11"};
   o.jobs = 1;
   const auto one = run_fp_detectors(tmp.path(), images, o);

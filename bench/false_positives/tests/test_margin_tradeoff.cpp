@@ -41,24 +41,24 @@ FalseDetection false_detection(std::uint32_t image, const std::string& detector,
 // one in the unreadable image and one of another detector, which count nowhere.
 FpDetectorsRun corpus_run() {
   FpDetectorsRun r;
-  r.options.detectors = {"tagbench-full", "libapriltag-d2"};
+  r.options.detectors = {"tagbench-paper", "libapriltag-d2"};
   r.options.families = {"16h5", "25h9"};
   r.images = {image("a.png", 1000, 1000), image("b.png", 500, 200), image("c.png", 0, 0, "unreadable")};
-  r.detections = {false_detection(0, "tagbench-full", "16h5", 0.05), false_detection(0, "tagbench-full", "16h5", 0.1),
-                  false_detection(1, "tagbench-full", "16h5", 0.3),  false_detection(1, "tagbench-full", "16h5", 0.9),
-                  false_detection(2, "tagbench-full", "16h5", 0.99), false_detection(0, "libapriltag-d2", "16h5", 50),
-                  false_detection(1, "tagbench-full", "25h9", 0.2)};
+  r.detections = {false_detection(0, "tagbench-paper", "16h5", 0.05), false_detection(0, "tagbench-paper", "16h5", 0.1),
+                  false_detection(1, "tagbench-paper", "16h5", 0.3),  false_detection(1, "tagbench-paper", "16h5", 0.9),
+                  false_detection(2, "tagbench-paper", "16h5", 0.99), false_detection(0, "libapriltag-d2", "16h5", 50),
+                  false_detection(1, "tagbench-paper", "25h9", 0.2)};
   return r;
 }
 
-// A sweep with given (step, detected, margin) per frame of tagbench-full, and an aruco row per frame
+// A sweep with given (step, detected, margin) per frame of tagbench-paper, and an aruco row per frame
 // (always detected, no margin) that must not count.
 SweepResult sweep(Experiment e, const std::string& family, Condition c,
                   const std::vector<std::tuple<double, bool, double>>& frames) {
   SweepResult r;
   r.settings.experiment = e;
   r.settings.family = family;
-  r.settings.detectors = {"tagbench-full", "aruco"};
+  r.settings.detectors = {"tagbench-paper", "aruco"};
   for (const auto& [step, detected, margin] : frames) {
     SweepFrame f;
     f.condition = c;
@@ -67,7 +67,7 @@ SweepResult sweep(Experiment e, const std::string& family, Condition c,
     r.frames.push_back(f);
     SweepRow ours;
     ours.frame = r.frames.size() - 1;
-    ours.detector = "tagbench-full";
+    ours.detector = "tagbench-paper";
     ours.detected_right_id = detected;
     ours.decision_margin = margin;
     r.rows.push_back(ours);
@@ -160,7 +160,7 @@ TEST(MarginTradeoff, EveryThresholdCountsWhatADetectorWithThatMinimumWouldKeep) 
             "distance_frames,distance_detected,distance_rate,distance_rate_ci95_lo,distance_rate_ci95_hi,"
             "noise_frames,noise_detected,noise_rate,noise_rate_ci95_lo,noise_rate_ci95_hi,distance_range_m");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 9);
-  EXPECT_NE(csv.find("\n16h5,tagbench-full,0.5,2,1.1,1,0.5,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n16h5,tagbench-paper,0.5,2,1.1,1,0.5,"), std::string::npos) << csv;
   const std::string steps = margin_steps_csv(t);
   EXPECT_EQ(std::count(steps.begin(), steps.end(), '\n'), 1 + 2 * 4 * 5);
 }

@@ -80,7 +80,7 @@ TEST(CliRaytrace, BadOptionsAreRefusedWithOneLineAndNoOutput) {
       {"angle --trials 0", "trials must be > 0"},
       {"conditions --trials -1", "trials must be > 0"},
       {"angle --tag-size 0", "tag size must be > 0"},
-      {"angle --detectors tagbench-full,zbar", "unknown detector 'zbar'"},
+      {"angle --detectors tagbench-paper,zbar", "unknown detector 'zbar'"},
       {"angle --scene studio", "unknown scene 'studio' (plain, realistic)"},
       {"conditions --conditions noise,fog", "unknown condition 'fog'"},
       {"distance --distances 1", "does not fit"},
@@ -102,7 +102,7 @@ TEST(CliRaytrace, MissingPovrayIsOneLineNamingThePackage) {
   const fs::path out = scratch() / "nopovray", cache = scratch() / "nopovray-cache";
   fs::remove_all(out);
   fs::remove_all(cache);
-  const Result r = run("angle --trials 1 --angles 10 --detectors tagbench-full --povray /nonexistent/povray --cache " +
+  const Result r = run("angle --trials 1 --angles 10 --detectors tagbench-paper --povray /nonexistent/povray --cache " +
                        cache.string() + " --out " + out.string());
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.err, "tagbench raytrace: povray not found: install the Debian package povray\n");
@@ -114,7 +114,7 @@ TEST(CliRaytrace, SmallRunWritesRowsSummaryAndSidecarAndARerunRendersNothing) {
   const fs::path a = scratch() / "run-a", b = scratch() / "run-b";
   fs::remove_all(a);
   fs::remove_all(b);
-  const std::string args = "angle --trials 2 --angles 0,40 --detectors tagbench-full,aruco ";
+  const std::string args = "angle --trials 2 --angles 0,40 --detectors tagbench-paper,aruco ";
   const Result first = run(args + common(a));
   ASSERT_EQ(first.code, 0) << first.err;
   const auto rows = lines(slurp(a / "fig9_angle.csv"));
@@ -122,16 +122,16 @@ TEST(CliRaytrace, SmallRunWritesRowsSummaryAndSidecarAndARerunRendersNothing) {
   EXPECT_EQ(rows[0].rfind("experiment,condition,step,step_unit,trial,seed,", 0), 0u);
   for (std::size_t i = 1; i < rows.size(); ++i) {
     EXPECT_EQ(rows[i].rfind("angle,none,", 0), 0u) << rows[i];
-    EXPECT_TRUE(rows[i].find(",tagbench-full,") != std::string::npos || rows[i].find(",aruco,") != std::string::npos);
-    if (rows[i].find(",tagbench-full,") != std::string::npos) {
-      EXPECT_NE(rows[i].find(",tagbench-full,1,0,"), std::string::npos) << "ours finds it: " << rows[i];
+    EXPECT_TRUE(rows[i].find(",tagbench-paper,") != std::string::npos || rows[i].find(",aruco,") != std::string::npos);
+    if (rows[i].find(",tagbench-paper,") != std::string::npos) {
+      EXPECT_NE(rows[i].find(",tagbench-paper,1,0,"), std::string::npos) << "ours finds it: " << rows[i];
     }
   }
   const auto summary = lines(slurp(a / "fig9_angle_summary.csv"));
   ASSERT_EQ(summary.size(), 1u + 2 * 2);  // header + steps x detectors
   EXPECT_NE(summary[0].find("detection_rate,rate_lo95,rate_hi95"), std::string::npos);
   const std::string json = slurp(a / "fig9_angle.json");
-  EXPECT_NE(json.find("\"detectors\": [\"tagbench-full\", \"aruco\"]"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"detectors\": [\"tagbench-paper\", \"aruco\"]"), std::string::npos) << json;
   EXPECT_NE(json.find("\"steps\": [0, 40]"), std::string::npos) << json;
 
   // The same settings again (into another folder): nothing rendered, the same rows.
@@ -167,7 +167,7 @@ TEST(CliRaytrace, AFrameThatFailsToRenderIsReportedAndTheRunGoesOn) {
                          " [ \"$n\" = \"$first\" ] && rm -f \"$f\"; done\n"
                          "exit 1\n";
   fs::permissions(fake, fs::perms::owner_all);
-  const std::string args = "angle --trials 1 --angles 5,35 --detectors tagbench-full --processes 1 --cache " +
+  const std::string args = "angle --trials 1 --angles 5,35 --detectors tagbench-paper --processes 1 --cache " +
                            cache.string() + " --out " + out.string();
   const Result r = run(args + " --povray " + fake.string());
   ASSERT_EQ(r.code, 0) << r.err;

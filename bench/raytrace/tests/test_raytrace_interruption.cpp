@@ -40,7 +40,7 @@ fs::path scratch(const std::string& name) {
 
 // Six frames (two trials at three angles), three detectors: a few seconds of POV-Ray.
 const std::string kSweep = "raytrace angle --trials 2 --angles 0,30,60 --seed 5 "
-                           "--detectors tagbench-full,libapriltag-d1,aruco";
+                           "--detectors tagbench-paper,libapriltag-d1,aruco";
 
 std::string sweep(const fs::path& cache, const fs::path& out, int processes) {
   return kSweep + " --processes " + std::to_string(processes) + " --cache " + cache.string() + " --out " +

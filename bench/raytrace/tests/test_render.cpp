@@ -232,7 +232,7 @@ TEST(RaytraceRender, OurDetectorFindsThePlainFramesAtTheGroundTruth) {
   const auto frames = plain_frames();
   const RenderReport r = render_frames(frames, scene_template(SceneKind::kPlain), gentle_options(shared_cache()));
   ASSERT_EQ(r.failed, 0u);
-  DetectorOptions opt;
+  DetectorOptions opt = DetectorOptions::paper();
   opt.camera = render_camera();
   opt.tag_size = frames[0].tag_size;
   const Detector detector(opt);
@@ -276,7 +276,7 @@ TEST(RaytraceRender, RealisticSceneShowsMoreThanTheTagAndTheTagIsFound) {
   double lo = 0, hi = 0;
   cv::minMaxLoc(img, &lo, &hi, nullptr, nullptr, outside);
   EXPECT_GT(hi - lo, 60) << "textures and light in view";
-  DetectorOptions opt;
+  DetectorOptions opt = DetectorOptions::paper();
   opt.camera = render_camera();
   opt.tag_size = f.tag_size;
   const auto dets = detect(Detector(opt), img);
@@ -373,7 +373,7 @@ TEST(RaytraceRender, AFrameThatFailsIsReportedAndTheOthersGoOn) {
   }
   // Each file holds its own frame: the last one's tag is the smallest (the farthest).
   const cv::Mat img = read_frame_gray(r.frames.back().png);
-  DetectorOptions opt;
+  DetectorOptions opt = DetectorOptions::paper();
   const auto dets = detect(Detector(opt), img);
   ASSERT_EQ(dets.size(), 1u);
   EXPECT_LT(max_corner_error(dets[0].corners, ground_truth(last).corners), 0.3);

@@ -63,7 +63,7 @@ TEST(SpeedSets, EveryDetectorTimedOnEveryImage) {
   const ImageSet set = scene_set({{320, 240}}, 2, "36h11");
   ASSERT_EQ(set.size, 2u);
   SpeedOptions o;
-  o.detectors = {"tagbench-full", "libapriltag-d1"};
+  o.detectors = {"tagbench-paper", "libapriltag-d1"};
   std::size_t calls = 0;
   const auto rows = time_image_set(set, o, [&](const SpeedProgress& p) {
     ++calls;

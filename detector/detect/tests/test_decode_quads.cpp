@@ -78,7 +78,7 @@ TEST(DecodeQuads, OneReadingPerPayloadWidth) {
   // Two families of width 4, one of width 6: two readings per quad, not three.
   const std::vector<TagFamily> fams = {builtin_family("36h11"), f, single("x", f.codes()[0])};
   std::vector<PayloadReading> readings;
-  const auto out = decode_quads(img, quads, fams, 0, PayloadOptions{}, &readings);
+  const auto out = decode_quads(img, quads, fams, 0, PayloadOptions{}, nullptr, &readings);
   ASSERT_EQ(out.size(), 2u);
   EXPECT_EQ(out[0].rotation, 1);
   EXPECT_EQ(out[1].rotation, 2);
@@ -108,10 +108,10 @@ TEST(DecodeQuads, QuickRejectAppliesTheBorderPreFilter) {
   PayloadOptions off;
   off.quick_reject = false;
   std::vector<PayloadReading> readings;
-  const auto read = decode_quads(img, quads, std::span(&f, 1), 2, off, &readings);
+  const auto read = decode_quads(img, quads, std::span(&f, 1), 2, off, nullptr, &readings);
   ASSERT_EQ(read.size(), 1u);
   EXPECT_EQ(read[0].id, 11);
   readings.clear();
-  EXPECT_TRUE(decode_quads(img, quads, std::span(&f, 1), 2, PayloadOptions{}, &readings).empty());
+  EXPECT_TRUE(decode_quads(img, quads, std::span(&f, 1), 2, PayloadOptions{}, nullptr, &readings).empty());
   EXPECT_TRUE(readings.empty());  // rejected before anything was read
 }

@@ -60,7 +60,7 @@ void operator delete[](void* p, const std::nothrow_t&) noexcept { release_memory
 namespace {
 
 DetectorOptions opts(std::vector<std::string> fams, int max_hamming = 1) {
-  DetectorOptions o;
+  DetectorOptions o = DetectorOptions::paper();
   o.families = std::move(fams);
   o.max_hamming = max_hamming;
   return o;

@@ -10,7 +10,7 @@ namespace tagbench {
 namespace {
 
 DetectorOptions opts(const std::string& family, int max_hamming = 1) {
-  DetectorOptions o;
+  DetectorOptions o = DetectorOptions::paper();
   o.families = {family};
   o.max_hamming = max_hamming;
   return o;

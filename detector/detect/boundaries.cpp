@@ -1,0 +1,150 @@
+#include "detect/boundaries.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace tagbench {
+namespace {
+
+constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+
+std::size_t slot_of(std::uint64_t key, std::size_t mask) {
+  key ^= key >> 33;  // a 64-bit mix (splitmix64's finaliser) so neighbouring ids spread out
+  key *= 0xff51afd7ed558ccdULL;
+  key ^= key >> 33;
+  return static_cast<std::size_t>(key) & mask;
+}
+
+class PairTable {
+ public:
+  explicit PairTable(BoundaryScratch& s) : s_(s) {
+    if (s_.keys.size() < 4096) s_.keys.resize(4096);
+    std::fill(s_.keys.begin(), s_.keys.end(), kEmpty);
+    s_.values.resize(s_.keys.size());
+  }
+  // The group index of the pair `key`, a new one (== groups so far) when first met.
+  std::uint32_t get(std::uint64_t key) {
+    std::size_t mask = s_.keys.size() - 1, i = slot_of(key, mask);
+    while (s_.keys[i] != kEmpty) {
+      if (s_.keys[i] == key) return s_.values[i];
+      i = (i + 1) & mask;
+    }
+    const std::uint32_t g = n_++;
+    s_.keys[i] = key;
+    s_.values[i] = g;
+    if (2 * static_cast<std::size_t>(n_) > s_.keys.size()) grow();
+    return g;
+  }
+  std::uint32_t size() const { return n_; }
+
+ private:
+  void grow() {
+    std::vector<std::uint64_t> keys(s_.keys.size() * 2, kEmpty);
+    std::vector<std::uint32_t> values(keys.size());
+    const std::size_t mask = keys.size() - 1;
+    for (std::size_t j = 0; j < s_.keys.size(); ++j) {
+      if (s_.keys[j] == kEmpty) continue;
+      std::size_t i = slot_of(s_.keys[j], mask);
+      while (keys[i] != kEmpty) i = (i + 1) & mask;
+      keys[i] = s_.keys[j];
+      values[i] = s_.values[j];
+    }
+    s_.keys.swap(keys);
+    s_.values.swap(values);
+  }
+  BoundaryScratch& s_;
+  std::uint32_t n_ = 0;
+};
+
+}  // namespace
+
+void group_boundaries(const TernaryImage& img, const Components& comp, const BoundaryOptions& opt,
+                      BoundaryScratch& s, BoundaryGroups& out) {
+  const int w = img.width, h = img.height;
+  s.raw.clear();
+  s.raw_group.clear();
+  PairTable table(s);
+  const std::uint32_t min_size = opt.min_component_pixels;
+  std::uint64_t last_key = kEmpty;
+  std::uint32_t last_group = 0;
+  auto big = [&](std::uint32_t id) { return id != kNoComponent && comp.size[id] >= min_size; };
+
+  for (int y = 0; y < h; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    const std::uint8_t* v = img.data.data() + row;
+    const std::uint8_t* below = y + 1 < h ? v + w : nullptr;
+    const std::uint32_t* lab = comp.label.data() + row;
+    bool last_diagonal = false;  // did (x - 1, y) add the point toward (x, y + 1)?
+    for (int x = 0; x < w; ++x) {
+      // Skip 8 pixels at once where they, their right neighbours and the three pixels below each are
+      // all equal (flat or inside a region): no boundary there. Most of a frame is like that.
+      if (below && x > 0 && x + 9 <= w) {
+        std::uint64_t a, r, b0, b1, b2;
+        std::memcpy(&a, v + x, 8);
+        std::memcpy(&r, v + x + 1, 8);
+        std::memcpy(&b0, below + x - 1, 8);
+        std::memcpy(&b1, below + x, 8);
+        std::memcpy(&b2, below + x + 1, 8);
+        if (((a ^ r) | (a ^ b0) | (a ^ b1) | (a ^ b2)) == 0) {
+          x += 7;
+          last_diagonal = false;
+          continue;
+        }
+      }
+      const std::uint8_t v0 = v[x];
+      const bool right = x + 1 < w;
+      // Fast exit: nothing of the opposite class among the four forward neighbours.
+      const bool any = (right && v0 + v[x + 1] == 255) ||
+                       (below && (v0 + below[x] == 255 || (x > 0 && v0 + below[x - 1] == 255) ||
+                                  (right && v0 + below[x + 1] == 255)));
+      if (v0 == kTernaryUnknown || !any || !big(lab[x])) {
+        last_diagonal = false;
+        continue;
+      }
+      const std::uint32_t l0 = lab[x];
+      bool diagonal = false;
+      auto add = [&](int dx, int dy, std::uint8_t v1, std::uint32_t l1) {
+        if (v0 + v1 != 255 || !big(l1)) return false;
+        const std::uint64_t key = l0 < l1 ? (std::uint64_t{l1} << 32 | l0) : (std::uint64_t{l0} << 32 | l1);
+        const int sign = v1 > v0 ? 1 : -1;  // toward the light pixel
+        s.raw.push_back(BoundaryPoint{2 * x + dx, 2 * y + dy, static_cast<std::int8_t>(sign * dx),
+                                      static_cast<std::int8_t>(sign * dy)});
+        // Consecutive points mostly belong to the same pair: a one-entry cache skips most lookups.
+        if (key != last_key) {
+          last_key = key;
+          last_group = table.get(key);
+        }
+        s.raw_group.push_back(last_group);
+        return true;
+      };
+      if (right) add(1, 0, v[x + 1], lab[x + 1]);
+      if (below) {
+        const std::uint32_t* lb = lab + w;
+        add(0, 1, below[x], lb[x]);
+        // (x-1, y)->(x, y+1) and (x, y)->(x-1, y+1) meet at the same point: add it once.
+        if (x > 0 && !last_diagonal) add(-1, 1, below[x - 1], lb[x - 1]);
+        if (right) diagonal = add(1, 1, below[x + 1], lb[x + 1]);
+      }
+      last_diagonal = diagonal;
+    }
+  }
+
+  // Counting sort of the points by group (stable: each group keeps scan order).
+  const std::uint32_t ng = table.size();
+  out.offsets.assign(static_cast<std::size_t>(ng) + 1, 0);
+  for (const std::uint32_t g : s.raw_group) ++out.offsets[static_cast<std::size_t>(g) + 1];
+  for (std::size_t g = 0; g < ng; ++g) out.offsets[g + 1] += out.offsets[g];
+  s.fill.assign(out.offsets.begin(), out.offsets.end() - 1);
+  out.points.resize(s.raw.size());
+  for (std::size_t i = 0; i < s.raw.size(); ++i) out.points[s.fill[s.raw_group[i]]++] = s.raw[i];
+  if (ng == 0) out.offsets.clear();
+}
+
+BoundaryGroups group_boundaries(const TernaryImage& img, const Components& comp, const BoundaryOptions& opt) {
+  BoundaryScratch s;
+  BoundaryGroups out;
+  group_boundaries(img, comp, opt, s, out);
+  return out;
+}
+
+}  // namespace tagbench

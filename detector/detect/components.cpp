@@ -1,0 +1,104 @@
+#include "detect/components.hpp"
+
+namespace tagbench {
+namespace {
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];  // path halving
+    i = parent[i];
+  }
+  return i;
+}
+
+// Union by index (the smaller root wins) keeps the result independent of the order of unions, and
+// with path halving the trees stay shallow enough for this one-pass use.
+void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+  a = find_root(parent, a);
+  b = find_root(parent, b);
+  if (a == b) return;
+  if (a < b)
+    parent[b] = a;
+  else
+    parent[a] = b;
+}
+
+}  // namespace
+
+void connected_components(const TernaryImage& img, ComponentScratch& s, Components& out) {
+  const int w = img.width, h = img.height;
+  out.width = w;
+  out.height = h;
+  out.count = 0;
+  const std::size_t npix = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  out.label.resize(npix);
+  s.runs.clear();
+  s.row_start.resize(static_cast<std::size_t>(h) + 1);
+  if (npix == 0) {
+    out.size.clear();
+    return;
+  }
+
+  // 1. Runs of equal class, row by row.
+  for (int y = 0; y < h; ++y) {
+    s.row_start[static_cast<std::size_t>(y)] = static_cast<std::uint32_t>(s.runs.size());
+    const std::uint8_t* row = img.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    int x = 0;
+    while (x < w) {
+      const std::uint8_t v = row[x];
+      int e = x + 1;
+      while (e < w && row[e] == v) ++e;
+      s.runs.push_back(ClassRun{x, e - 1, v});
+      x = e;
+    }
+  }
+  s.row_start[static_cast<std::size_t>(h)] = static_cast<std::uint32_t>(s.runs.size());
+  const std::size_t nr = s.runs.size();
+  s.parent.resize(nr);
+  for (std::size_t i = 0; i < nr; ++i) s.parent[i] = static_cast<std::uint32_t>(i);
+
+  // 2. Join each run with the runs of the row above that touch it: overlapping columns (4-connected,
+  // dark) or overlapping or diagonally adjacent columns (8-connected, light).
+  for (int y = 1; y < h; ++y) {
+    std::uint32_t j = s.row_start[static_cast<std::size_t>(y) - 1];
+    const std::uint32_t jend = s.row_start[static_cast<std::size_t>(y)];
+    for (std::uint32_t i = jend; i < s.row_start[static_cast<std::size_t>(y) + 1]; ++i) {
+      const ClassRun r = s.runs[i];
+      if (r.value == kTernaryUnknown) continue;
+      const int slack = r.value == kTernaryLight ? 1 : 0;
+      while (j < jend && s.runs[j].x1 < r.x0 - 1) ++j;  // never needed again: later runs start further right
+      for (std::uint32_t k = j; k < jend && s.runs[k].x0 <= r.x1 + slack; ++k) {
+        const ClassRun& p = s.runs[k];
+        if (p.value == r.value && p.x1 >= r.x0 - slack) unite(s.parent, i, k);
+      }
+    }
+  }
+
+  // 3. Roots, sizes, and the per-pixel labels.
+  out.size.assign(nr, 0);
+  for (std::size_t i = 0; i < nr; ++i) {
+    const std::uint32_t root = find_root(s.parent, static_cast<std::uint32_t>(i));
+    s.parent[i] = root;  // flattened for the labelling below
+    const ClassRun& r = s.runs[i];
+    if (r.value == kTernaryUnknown) continue;
+    if (out.size[root] == 0) ++out.count;
+    out.size[root] += static_cast<std::uint32_t>(r.x1 - r.x0 + 1);
+  }
+  for (int y = 0; y < h; ++y) {
+    std::uint32_t* lab = out.label.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    for (std::uint32_t i = s.row_start[static_cast<std::size_t>(y)]; i < s.row_start[static_cast<std::size_t>(y) + 1]; ++i) {
+      const ClassRun& r = s.runs[i];
+      const std::uint32_t id = r.value == kTernaryUnknown ? kNoComponent : s.parent[i];  // parent is the root now
+      for (int x = r.x0; x <= r.x1; ++x) lab[x] = id;
+    }
+  }
+}
+
+Components connected_components(const TernaryImage& img) {
+  ComponentScratch s;
+  Components out;
+  connected_components(img, s, out);
+  return out;
+}
+
+}  // namespace tagbench

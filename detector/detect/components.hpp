@@ -1,0 +1,44 @@
+#pragma once
+// Connected components of the thresholded image (beyond the paper; AprilTag 2, section III-B): the
+// dark pixels and the light pixels each form regions; unknown pixels (threshold.hpp) belong to none.
+// Dark regions are 4-connected and light regions 8-connected (the usual dual pair, so a dark
+// region and the light region around it separate cleanly: a diagonal dark-dark step never cuts a
+// light region in two and vice versa).
+//
+// The union-find runs over horizontal runs of equal class, not pixels: a row of a tag's edge is one
+// or two runs instead of dozens of pixels, so there are far fewer unions and finds.
+#include <cstdint>
+#include <vector>
+
+#include "threshold.hpp"
+
+namespace tagbench {
+
+inline constexpr std::uint32_t kNoComponent = 0xFFFFFFFFu;
+
+struct Components {
+  int width = 0, height = 0;
+  std::vector<std::uint32_t> label;  // per pixel (row-major): its component's id, kNoComponent when unknown
+  std::vector<std::uint32_t> size;   // per id: the component's pixel count (ids index into it; unused ids hold 0)
+  std::uint32_t count = 0;           // number of components (dark and light)
+};
+
+// A horizontal run [x0, x1] (inclusive) of one class in one row.
+struct ClassRun {
+  std::int32_t x0 = 0, x1 = 0;
+  std::uint8_t value = 0;
+};
+
+struct ComponentScratch {
+  std::vector<ClassRun> runs;
+  std::vector<std::uint32_t> row_start;  // runs of row y: [row_start[y], row_start[y + 1])
+  std::vector<std::uint32_t> parent;     // union-find over runs
+};
+
+// Labels `img` into `out` (resized; storage reused from frame to frame).
+void connected_components(const TernaryImage& img, ComponentScratch& scratch, Components& out);
+
+// Convenience form with its own scratch.
+Components connected_components(const TernaryImage& img);
+
+}  // namespace tagbench

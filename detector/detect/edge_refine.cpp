@@ -1,0 +1,125 @@
+#include "detect/edge_refine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "detect/payload_decode.hpp"  // sample_bilinear
+
+namespace tagbench {
+namespace {
+
+struct Line {
+  Eigen::Vector2d point, dir;  // dir unit
+};
+
+std::optional<Eigen::Vector2d> intersect(const Line& a, const Line& b) {
+  const double den = a.dir.x() * b.dir.y() - a.dir.y() * b.dir.x();
+  if (std::abs(den) < 1e-9) return std::nullopt;
+  const Eigen::Vector2d d = b.point - a.point;
+  const double t = (d.x() * b.dir.y() - d.y() * b.dir.x()) / den;
+  return a.point + t * a.dir;
+}
+
+// Total least squares through weighted points; nullopt for fewer than 3 points or no spread.
+std::optional<Line> fit_line(const std::vector<Eigen::Vector3d>& pts) {  // (x, y, w)
+  if (pts.size() < 3) return std::nullopt;
+  double W = 0;
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (const auto& p : pts) {
+    W += p.z();
+    c += p.z() * p.head<2>();
+  }
+  if (!(W > 0)) return std::nullopt;
+  c /= W;
+  Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+  for (const auto& p : pts) {
+    const Eigen::Vector2d v = p.head<2>() - c;
+    C += p.z() * v * v.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
+  if (es.info() != Eigen::Success) return std::nullopt;
+  const Eigen::Vector2d dir = es.eigenvectors().col(1);  // largest eigenvalue
+  if (!dir.allFinite() || !(es.eigenvalues()(1) > 0)) return std::nullopt;
+  return Line{c, dir.normalized()};
+}
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+bool convex_same_winding(const Corners& a, const Corners& b) {
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto ea0 = a[(i + 1) % 4] - a[i], ea1 = a[(i + 2) % 4] - a[(i + 1) % 4];
+    const auto eb0 = b[(i + 1) % 4] - b[i], eb1 = b[(i + 2) % 4] - b[(i + 1) % 4];
+    if (cross(ea0, ea1) * cross(eb0, eb1) <= 0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+namespace {
+
+// One pass: every side re-located around the lines through `c`.
+std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const EdgeRefineOptions& opt) {
+  const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+  std::array<Line, 4> lines;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d a = c[i], b = c[(i + 1) % 4];
+    const double len = (b - a).norm();
+    if (!(len > 1e-6)) return std::nullopt;
+    const Eigen::Vector2d dir = (b - a) / len;
+    Eigen::Vector2d n(dir.y(), -dir.x());
+    if (n.dot(0.5 * (a + b) - centre) < 0) n = -n;  // outward, whatever the winding
+    lines[i] = Line{a, dir};
+    const double range =
+        std::clamp(opt.range_cell_fraction * len / opt.cells_across, opt.min_range_px, opt.max_range_px);
+    const int samples = std::max(opt.min_samples, static_cast<int>(std::lround(len / opt.sample_spacing_px)));
+    std::vector<Eigen::Vector3d> pts;
+    for (int k = 0; k < samples; ++k) {
+      const double t = opt.end_margin + (1 - 2 * opt.end_margin) * (k + 0.5) / samples;
+      const Eigen::Vector2d p = a + t * (b - a);
+      double sw = 0, sws = 0;
+      for (double s = -range; s <= range + 1e-9; s += opt.step_px) {
+        const auto hi = sample_bilinear(img, p + (s + opt.derivative_half_px) * n);
+        const auto lo = sample_bilinear(img, p + (s - opt.derivative_half_px) * n);
+        if (!hi || !lo) continue;
+        const double g = opt.gamma == 1.0 ? *hi - *lo
+                                          : std::pow(std::max(0.0f, *hi), opt.gamma) - std::pow(std::max(0.0f, *lo), opt.gamma);
+        if (g <= 0) continue;
+        sw += g * g;
+        sws += g * g * s;
+      }
+      if (sw > 0) pts.emplace_back(p.x() + sws / sw * n.x(), p.y() + sws / sw * n.y(), sw);
+    }
+    if (const auto l = fit_line(pts)) lines[i] = *l;
+  }
+  Corners out;
+  for (std::size_t i = 0; i < 4; ++i) {  // corner i joins side i-1 (ending there) and side i (starting there)
+    const auto p = intersect(lines[(i + 3) % 4], lines[i]);
+    if (!p) return std::nullopt;
+    out[i] = *p;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::optional<Corners> refine_quad_edges(const ImageF& img, const Corners& c, const EdgeRefineOptions& opt) {
+  if (img.empty() || opt.cells_across < 1 || !(opt.step_px > 0) || !(opt.derivative_half_px > 0)) return std::nullopt;
+  for (const auto& p : c)
+    if (!p.allFinite()) return std::nullopt;
+  Corners cur = c;
+  for (int it = 0; it < std::max(1, opt.iterations); ++it) {
+    const auto next = refine_once(img, cur, opt);
+    if (!next) return std::nullopt;
+    cur = *next;
+    for (std::size_t i = 0; i < 4; ++i)
+      if ((cur[i] - c[i]).norm() > opt.max_corner_shift_px) return std::nullopt;
+    if (!convex_same_winding(c, cur)) return std::nullopt;
+  }
+  return cur;
+}
+
+}  // namespace tagbench

@@ -1,0 +1,41 @@
+#pragma once
+// Beyond the paper: reading the payload from each cell's area, with optional sharpening, for small
+// tags. The paper (payload_decode.hpp) samples one point per cell; with 1.5-3 px cells, noise, JPEG
+// blocks and a corner error of a few tenths of a pixel, one bilinear sample often lands on the
+// neighbouring cell's side of a blurred step. Here:
+//   - every cell of the (d+4) x (d+4) grid (white ring, black ring, payload; layout and tag
+//     coordinates as in payload_decode.hpp) is the mean of k x k bilinear samples spread over the
+//     central `sample_extent` of the cell (fractions of the cell's width, in tag coordinates, mapped
+//     through H), which averages noise without reaching into the neighbours;
+//   - the white and black ring cells train the paper's two models I = A x + B y + C x y + D (fit on
+//     the cell means; fewer than 6 cells: a constant);
+//   - optionally each payload cell is sharpened against its four neighbours, v' = v + s (4 v - sum of
+//     neighbours) (a discrete Laplacian on the cell grid, as AprilTag 3's decode_sharpening), which
+//     undoes part of the blur that spreads a cell into its neighbours when cells are 1-2 px;
+//   - a payload cell is 1 when v' exceeds the mean of the two models there.
+// Margin and contrast are defined as in PayloadReading (payload_decode.hpp), on the sharpened values.
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "image.hpp"
+#include "payload_decode.hpp"
+
+namespace tagbench {
+
+struct PayloadAreaOptions {
+  int samples_per_side = 3;     // k: k x k samples per cell (1 = the cell centre only)
+  double sample_extent = 0.3;   // the samples span this fraction of a cell's width, centred (wider
+                                // averages more of the blurred step between cells: worse when blurred)
+  double sharpening = 0.5;      // s above; 0 = off (AprilTag 3's default decode_sharpening is 0.25;
+                                // on 12-18 px blurred tags 0.5 corrects about half the bits 0.25 leaves)
+  double min_contrast = 0.02;   // white minus black model at the tag centre, [0, 1] intensities
+};
+
+// Reads a d x d payload through H (tag square [-1,1]^2 -> image); nullopt when a payload cell's
+// sample leaves the image, the border gives no model, or the contrast is below min_contrast.
+// Bits in AprilTag 1 order as seen through the quad (as read_payload).
+std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::Matrix3d& H, int d,
+                                                const PayloadAreaOptions& opt = {}, bool keep_points = false);
+
+}  // namespace tagbench

@@ -1,0 +1,218 @@
+#include "detect/quad_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tagbench {
+namespace {
+
+using Moments = QuadFitScratch::Moments;
+
+// Monotone in atan2(dy, dx) over [0, 2 pi), values in [0, 4): cheaper than atan2 and all a sort needs.
+float pseudo_angle(float dx, float dy) {
+  const float s = std::abs(dx) + std::abs(dy);
+  if (s == 0) return 0;
+  if (dy >= 0) return dx >= 0 ? dy / s : 1 - dx / s;
+  return dx < 0 ? 2 - dy / s : 3 + dx / s;
+}
+
+struct Line {
+  double cx, cy, nx, ny;  // a point on the line (the weighted centroid) and the unit normal
+};
+
+// The weighted least-squares line through the cyclic run i0..i1 (inclusive; i0 > i1 wraps).
+// Returns the mean squared distance (the covariance's small eigenvalue); err = that x point count.
+double fit_run(const std::vector<Moments>& cum, int i0, int i1, Line* line, double* err) {
+  const int n = static_cast<int>(cum.size());
+  auto at = [&](int i) { return cum[static_cast<std::size_t>(i)]; };
+  Moments m{};
+  auto add = [&](const Moments& a, double s) {
+    m.mx += s * a.mx, m.my += s * a.my, m.mxx += s * a.mxx, m.mxy += s * a.mxy, m.myy += s * a.myy, m.w += s * a.w;
+  };
+  int count;
+  if (i0 <= i1) {
+    add(at(i1), 1);
+    if (i0 > 0) add(at(i0 - 1), -1);
+    count = i1 - i0 + 1;
+  } else {
+    add(at(n - 1), 1);
+    add(at(i0 - 1), -1);
+    add(at(i1), 1);
+    count = n - i0 + i1 + 1;
+  }
+  const double ex = m.mx / m.w, ey = m.my / m.w;
+  const double cxx = m.mxx / m.w - ex * ex, cxy = m.mxy / m.w - ex * ey, cyy = m.myy / m.w - ey * ey;
+  const double root = std::sqrt((cxx - cyy) * (cxx - cyy) + 4 * cxy * cxy);
+  const double small = std::max(0.0, 0.5 * (cxx + cyy - root));
+  if (line) {
+    // The normal is the eigenvector of the small eigenvalue; of the two equivalent formulas take the
+    // better conditioned one.
+    const double big = 0.5 * (cxx + cyy + root);
+    double ax = cxx - big, ay = cxy, bx = cxy, by = cyy - big;  // rows of (C - big I): both normal to the line direction
+    const double la = ax * ax + ay * ay, lb = bx * bx + by * by;
+    double nx = la > lb ? ax : bx, ny = la > lb ? ay : by;
+    const double len = std::sqrt(std::max(la, lb));
+    if (len > 1e-12) {
+      nx /= len;
+      ny /= len;
+    } else {
+      nx = ny = 0;
+    }
+    *line = Line{ex, ey, nx, ny};
+  }
+  if (err) *err = count * small;
+  return small;
+}
+
+// Where the kernel line fit bends: indices of up to max_maxima local maxima of the smoothed
+// kernel error, in index order.
+void corner_candidates(QuadFitScratch& s, int max_maxima) {
+  const int n = static_cast<int>(s.pts.size());
+  const int k = std::min(20, n / 12);  // kernel half width, about half the points of a short side
+  s.err.resize(static_cast<std::size_t>(n));
+  s.smooth.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) fit_run(s.cum, (i + n - k) % n, (i + k) % n, nullptr, &s.err[static_cast<std::size_t>(i)]);
+  // Smooth with a 7-tap Gaussian (sigma 1 point), cyclically, so noise gives fewer false maxima.
+  static constexpr double g[7] = {0.011109, 0.135335, 0.606531, 1.0, 0.606531, 0.135335, 0.011109};
+  for (int i = 0; i < n; ++i) {
+    double acc = 0;
+    if (i >= 3 && i + 3 < n) {  // no wrap: the common case, without a modulo per tap
+      const double* e = s.err.data() + i - 3;
+      for (int j = 0; j < 7; ++j) acc += g[j] * e[j];
+    } else {
+      for (int j = -3; j <= 3; ++j) acc += g[j + 3] * s.err[static_cast<std::size_t>((i + j + 3 * n) % n)];
+    }
+    s.smooth[static_cast<std::size_t>(i)] = acc;
+  }
+  s.maxima.clear();
+  for (int i = 0; i < n; ++i) {
+    const double e = s.smooth[static_cast<std::size_t>(i)];
+    if (e > s.smooth[static_cast<std::size_t>((i + 1) % n)] && e > s.smooth[static_cast<std::size_t>((i + n - 1) % n)])
+      s.maxima.push_back(i);
+  }
+  if (static_cast<int>(s.maxima.size()) > max_maxima) {
+    std::nth_element(s.maxima.begin(), s.maxima.begin() + max_maxima, s.maxima.end(), [&](int a, int b) {
+      return s.smooth[static_cast<std::size_t>(a)] > s.smooth[static_cast<std::size_t>(b)];
+    });
+    s.maxima.resize(static_cast<std::size_t>(max_maxima));
+    std::sort(s.maxima.begin(), s.maxima.end());
+  }
+}
+
+}  // namespace
+
+std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const ImageF& img, const QuadFitOptions& opt,
+                                QuadFitScratch& s) {
+  const int n = static_cast<int>(group.size());
+  if (n < std::max(opt.min_points, 4) || n > 2 * (2 * img.width + 2 * img.height)) return std::nullopt;
+
+  // Bounding box (doubled coordinates), then the cheap size test: the box holds the quad.
+  int xmin = group[0].x2, xmax = xmin, ymin = group[0].y2, ymax = ymin;
+  for (const auto& p : group) {
+    xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
+    ymin = std::min(ymin, p.y2), ymax = std::max(ymax, p.y2);
+  }
+  const double min_area = 0.95 * opt.min_tag_width * opt.min_tag_width;
+  if (0.25 * (xmax - xmin) * (ymax - ymin) < min_area) return std::nullopt;
+
+  // A centre slightly off the half-pixel lattice so no point sits exactly on it.
+  const float cx = 0.25f * static_cast<float>(xmin + xmax) + 0.0256f, cy = 0.25f * static_cast<float>(ymin + ymax) - 0.0143f;
+  s.pts.resize(static_cast<std::size_t>(n));
+  double outward = 0;
+  for (int i = 0; i < n; ++i) {
+    const BoundaryPoint& p = group[static_cast<std::size_t>(i)];
+    const float x = 0.5f * static_cast<float>(p.x2), y = 0.5f * static_cast<float>(p.y2);
+    outward += (x - cx) * p.gx + (y - cy) * p.gy;
+    const int ix = (p.x2 + 1) >> 1, iy = (p.y2 + 1) >> 1;
+    float wgt = 1;
+    if (ix > 0 && iy > 0 && ix + 1 < img.width && iy + 1 < img.height) {
+      const float gx = img.at(ix + 1, iy) - img.at(ix - 1, iy), gy = img.at(ix, iy + 1) - img.at(ix, iy - 1);
+      wgt = 255.0f * std::sqrt(gx * gx + gy * gy) + 1;  // on 0..255 intensities, as AprilTag 3 weighs them
+    }
+    s.pts[static_cast<std::size_t>(i)] = {pseudo_angle(x - cx, y - cy), x, y, wgt};
+  }
+  if (outward > 0 ? !opt.dark_inside : !opt.light_inside) return std::nullopt;
+  std::sort(s.pts.begin(), s.pts.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+
+  s.cum.resize(static_cast<std::size_t>(n));
+  Moments m{};
+  for (int i = 0; i < n; ++i) {
+    const auto& p = s.pts[static_cast<std::size_t>(i)];
+    const double x = p.x, y = p.y, w = p.w;
+    m.mx += w * x, m.my += w * y, m.mxx += w * x * x, m.mxy += w * x * y, m.myy += w * y * y, m.w += w;
+    s.cum[static_cast<std::size_t>(i)] = m;
+  }
+  if (std::min(20, n / 12) < 2) return std::nullopt;
+  corner_candidates(s, opt.max_maxima);
+  const int nm = static_cast<int>(s.maxima.size());
+  if (nm < 4) return std::nullopt;
+
+  // The four candidates with the least summed line-fit error; adjacent sides must not be near parallel.
+  const double max_dot = std::cos(opt.min_angle_deg * M_PI / 180.0);
+  double best = HUGE_VAL;
+  int bi[4] = {0, 0, 0, 0};
+  for (int a = 0; a < nm - 3; ++a)
+    for (int b = a + 1; b < nm - 2; ++b) {
+      Line l01;
+      double e01, e12, e23, e30;
+      const int i0 = s.maxima[static_cast<std::size_t>(a)], i1 = s.maxima[static_cast<std::size_t>(b)];
+      if (fit_run(s.cum, i0, i1, &l01, &e01) > opt.max_line_fit_mse) continue;
+      for (int c = b + 1; c < nm - 1; ++c) {
+        Line l12;
+        const int i2 = s.maxima[static_cast<std::size_t>(c)];
+        if (fit_run(s.cum, i1, i2, &l12, &e12) > opt.max_line_fit_mse) continue;
+        if (std::abs(l01.nx * l12.nx + l01.ny * l12.ny) > max_dot) continue;
+        for (int d = c + 1; d < nm; ++d) {
+          const int i3 = s.maxima[static_cast<std::size_t>(d)];
+          if (fit_run(s.cum, i2, i3, nullptr, &e23) > opt.max_line_fit_mse) continue;
+          if (fit_run(s.cum, i3, i0, nullptr, &e30) > opt.max_line_fit_mse) continue;
+          const double e = e01 + e12 + e23 + e30;
+          if (e < best) best = e, bi[0] = i0, bi[1] = i1, bi[2] = i2, bi[3] = i3;
+        }
+      }
+    }
+  if (!(best / n < opt.max_line_fit_mse)) return std::nullopt;
+
+  Line lines[4];
+  for (int i = 0; i < 4; ++i)
+    if (fit_run(s.cum, bi[i], bi[(i + 1) & 3], &lines[i], nullptr) > opt.max_line_fit_mse) return std::nullopt;
+  Corners q;
+  for (int i = 0; i < 4; ++i) {  // corner i: line i meets line i + 1 (n . p = n . c for both)
+    const Line &a = lines[i], &b = lines[(i + 1) & 3];
+    const double det = a.nx * b.ny - a.ny * b.nx;
+    if (std::abs(det) < 1e-3) return std::nullopt;
+    const double da = a.nx * a.cx + a.ny * a.cy, db = b.nx * b.cx + b.ny * b.cy;
+    q[static_cast<std::size_t>(i)] = Eigen::Vector2d((da * b.ny - db * a.ny) / det, (a.nx * db - b.nx * da) / det);
+  }
+
+  // Area (shoelace; positive for clockwise on screen with y down), then every corner's angle and turn.
+  double area2 = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto &p = q[i], &r = q[(i + 1) & 3];
+    area2 += p.x() * r.y() - r.x() * p.y();
+  }
+  if (0.5 * area2 < min_area) return std::nullopt;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d d1 = q[(i + 1) & 3] - q[i], d2 = q[(i + 2) & 3] - q[(i + 1) & 3];
+    const double den = d1.norm() * d2.norm();
+    if (den == 0) return std::nullopt;
+    const double c = d1.dot(d2) / den;
+    if (std::abs(c) > max_dot || d1.x() * d2.y() - d1.y() * d2.x() < 0) return std::nullopt;
+  }
+  return q;
+}
+
+void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s,
+               std::vector<Quad>& out) {
+  for (std::size_t g = 0; g < groups.count(); ++g) {
+    const auto c = fit_quad(groups.group(g), img, opt, s);
+    if (!c) continue;
+    Quad q;
+    q.corners = *c;
+    q.segments = {-1, -1, -1, -1};
+    for (std::size_t i = 0; i < 4; ++i) q.observed_perimeter += ((*c)[(i + 1) & 3] - (*c)[i]).norm();
+    out.push_back(q);
+  }
+}
+
+}  // namespace tagbench

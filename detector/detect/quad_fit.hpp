@@ -1,0 +1,60 @@
+#pragma once
+// A quad fitted to each group of boundary points (beyond the paper; AprilTag 2, section III-C).
+//
+// Per group: the points are sorted by their angle around the group's bounding-box centre, which
+// walks the outline once; a quad then splits that cyclic sequence into four runs, each fitted with
+// a line. The split is chosen among "corner candidates": for every point, the error of one line
+// fitted to the kernel of points around it (about half a short side long) is large where the
+// outline bends, so its local maxima (at most max_maxima, the largest) are the candidates, and the
+// four with the least total line-fit error win. Cumulative weighted moments make every line fit
+// over any cyclic run O(1). Points are weighted by the image's gradient magnitude there (+ 1), so
+// crisp edge points count more than blurred or noisy ones.
+//
+// Corners are the intersections of consecutive lines, in increasing angle around the centre, which
+// with y down is clockwise on screen: the Quad convention of quad_search.hpp. Filters: enough points,
+// the dark side inside (the gradient points outward on the whole), each line's mean squared error,
+// the area, every corner's angle within [min_angle, 180 - min_angle] degrees, and convexity.
+// Coordinates are in the pixels of the image the points came from (pixel centres at integers).
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "boundaries.hpp"
+#include "image.hpp"
+#include "quad_search.hpp"
+
+namespace tagbench {
+
+struct QuadFitOptions {
+  int min_points = 24;             // fewer boundary points cannot be a quad (AprilTag 3: min_cluster_pixels 24)
+  int max_maxima = 10;             // corner candidates kept per group (AprilTag 3: max_nmaxima 10); C(10,4) = 210 splits
+  double max_line_fit_mse = 10.0;  // px^2, per side and on average (AprilTag 3: max_line_fit_mse)
+  double min_angle_deg = 10.0;     // every corner's angle in [min, 180 - min] (AprilTag 3: critical_rad 10 deg)
+  double min_tag_width = 6.0;      // px: quads whose area is below 0.95 min_tag_width^2 are dropped
+  bool dark_inside = true;         // accept dark squares on a light ground (every tagbench family)
+  bool light_inside = false;       // accept light squares on a dark ground (reversed-border families)
+};
+
+struct QuadFitScratch {
+  struct Pt {
+    float key, x, y, w;  // pseudo-angle, position (px), weight
+  };
+  struct Moments {
+    double mx, my, mxx, mxy, myy, w;
+  };
+  std::vector<Pt> pts;
+  std::vector<Moments> cum;
+  std::vector<double> err, smooth;
+  std::vector<int> maxima;
+};
+
+// One group's quad, or nullopt when a filter rejects it. `img` supplies the gradient weights and
+// the size limit (a group of more than 2 (2 w + 2 h) points is bigger than any outline in it).
+std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const ImageF& img, const QuadFitOptions& opt,
+                                QuadFitScratch& scratch);
+
+// Every group's quad appended to `out` (observed_perimeter = the quad's perimeter, segments = -1).
+void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& scratch,
+               std::vector<Quad>& out);
+
+}  // namespace tagbench

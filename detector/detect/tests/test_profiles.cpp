@@ -1,0 +1,113 @@
+// The two detector profiles (detector.hpp): DetectorOptions::paper() and the default profile, and the
+// default profile's quad finder alone (find_threshold_quads_in_image.hpp).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "codes/families.hpp"
+#include "codes/tag_layout.hpp"
+#include "detect/blur.hpp"
+#include "detect/detector.hpp"
+#include "detect/find_threshold_quads_in_image.hpp"
+#include "synthetic_tag.hpp"
+
+using namespace tagbench;
+
+namespace {
+
+// Tags of `side` px, one per 48 px cell of a 4 x 3 grid, blurred and noisy like a small camera image.
+struct Scene {
+  ImageF img;
+  std::vector<int> ids;
+};
+Scene small_tags(double side, std::uint32_t seed) {
+  const TagFamily& f = builtin_family("36h11");
+  Scene s{ImageF(192, 144, 0.55f), {}};
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  for (int gy = 0; gy < 3; ++gy)
+    for (int gx = 0; gx < 4; ++gx) {
+      const int id = 7 * (gy * 4 + gx) + 3;
+      const Corners c = synth::square_tag_corners(24 + 48 * gx + u(rng), 24 + 48 * gy + u(rng), side, 0.4 * gx + u(rng));
+      const ImageF t = synth::render_tag(192, 144, tag_cells(f, id), synth::homography_for(c));
+      // Copy the tag's neighbourhood (its own cell of the grid) into the scene.
+      for (int y = 48 * gy; y < 48 * gy + 48; ++y)
+        for (int x = 48 * gx; x < 48 * gx + 48; ++x) s.img.at(x, y) = t.at(x, y);
+      s.ids.push_back(id);
+    }
+  s.img = gaussian_blur(s.img, 0.8);
+  std::normal_distribution<float> noise(0.0f, 0.02f);
+  for (auto& v : s.img.data) v = std::clamp(v + noise(rng), 0.0f, 1.0f);
+  return s;
+}
+
+int found_ids(const std::vector<Detection>& dets, const std::vector<int>& ids) {
+  int n = 0;
+  for (int id : ids)
+    n += std::count_if(dets.begin(), dets.end(), [&](const Detection& d) { return d.id == id; }) > 0;
+  return n;
+}
+
+}  // namespace
+
+TEST(Profiles, PaperPresetIsThePapersComposition) {
+  const DetectorOptions p = DetectorOptions::paper(), d;
+  EXPECT_EQ(p.quad_finder, QuadFinderKind::kGradient);
+  EXPECT_EQ(p.payload_reader, PayloadReaderKind::kPoint);
+  EXPECT_EQ(d.quad_finder, QuadFinderKind::kThreshold);
+  EXPECT_EQ(d.payload_reader, PayloadReaderKind::kArea);
+  EXPECT_EQ(p.max_hamming, d.max_hamming);
+  EXPECT_EQ(p.seg_sigma, 0.8);
+  p.validate();
+  d.validate();
+}
+
+// Small tags (black square 14 px, cells 1.75 px) with blur and noise: the default profile finds
+// (nearly) all of them, the paper's detector few, and neither reports a wrong id.
+TEST(Profiles, DefaultProfileFindsSmallTagsThePaperMisses) {
+  int paper_found = 0, default_found = 0, total = 0;
+  const Detector paper(DetectorOptions::paper()), dflt(DetectorOptions{});
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    const Scene s = small_tags(14.0, seed);
+    const auto a = paper.detect(s.img), b = dflt.detect(s.img);
+    paper_found += found_ids(a, s.ids);
+    default_found += found_ids(b, s.ids);
+    total += static_cast<int>(s.ids.size());
+    for (const auto* v : {&a, &b})
+      for (const Detection& d : *v) EXPECT_NE(std::find(s.ids.begin(), s.ids.end(), d.id), s.ids.end()) << d.id;
+  }
+  EXPECT_GE(default_found, total * 9 / 10) << "paper " << paper_found;
+  EXPECT_GE(default_found, paper_found + total / 4);
+}
+
+// The threshold finder alone: one quad per tag, corners within a fifth of a pixel after refinement,
+// in full-resolution coordinates also at half resolution; its timings and trace are filled.
+TEST(FindThresholdQuadsInImage, QuadsOfLargeTagsAtFullAndHalfResolution) {
+  const TagFamily& f = builtin_family("36h11");
+  const Corners truth = synth::square_tag_corners(60.3, 50.8, 48.0, 0.3);
+  const ImageF img = gaussian_blur(synth::render_tag(120, 100, tag_cells(f, 4), synth::homography_for(truth)), 0.6);
+  for (bool half : {false, true}) {
+    DetectorOptions o;
+    o.half_resolution = half;
+    DetectorWorkspace ws;
+    StageTimings tm;
+    DetectorTrace trace;
+    const FoundQuads q = find_threshold_quads_in_image(img, o, ws, &tm, &trace);
+    EXPECT_EQ(q.decode_image, &img);
+    EXPECT_TRUE(q.segments.empty());
+    EXPECT_EQ(tm.quad_count, q.quads.size());
+    EXPECT_EQ(trace.quads.size(), q.quads.size());
+    EXPECT_DOUBLE_EQ(trace.segmentation_scale, half ? 2.0 : 1.0);
+    int near = 0;
+    for (const Quad& quad : q.quads) {
+      double best = 1e9;
+      for (std::size_t r = 0; r < 4; ++r) {
+        double e = 0;
+        for (std::size_t i = 0; i < 4; ++i) e = std::max(e, (quad.corners[(i + r) % 4] - truth[i]).norm());
+        best = std::min(best, e);
+      }
+      near += best < 0.2;
+    }
+    EXPECT_EQ(near, 1) << "half " << half;
+  }
+}

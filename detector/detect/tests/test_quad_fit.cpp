@@ -1,0 +1,145 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "detect/quad_fit.hpp"
+#include "detect/threshold_quads.hpp"
+#include "synthetic.hpp"
+
+using namespace tagbench;
+
+namespace {
+// A dark quad (clockwise on screen) on light ground, anti-aliased, with mild noise.
+ImageF scene(const Corners& c, int w, int h, float dark = 0.15f, float light = 0.85f, double noise = 0.002) {
+  ImageF img = synth::render_convex_polygon(w, h, {c[0], c[1], c[2], c[3]}, dark, light, 8);
+  if (noise > 0) synth::add_gaussian_noise(img, noise, 7);
+  return img;
+}
+Corners tilted(double cx, double cy, double a, double phi) {  // clockwise on screen, first corner top-left at phi = 0
+  const Eigen::Vector2d u(std::cos(phi), std::sin(phi)), v(-std::sin(phi), std::cos(phi)), c(cx, cy);
+  return {c + a * (-u - v), c + a * (u - v), c + a * (u + v), c + a * (-u + v)};
+}
+// Max over the true corners of the distance to the nearest found corner; also checks the cyclic order.
+double corner_error(const Corners& found, const Corners& truth) {
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < 4; ++i)
+    if ((found[i] - truth[0]).norm() < (found[k] - truth[0]).norm()) k = i;
+  double e = 0;
+  for (std::size_t i = 0; i < 4; ++i) e = std::max(e, (found[(k + i) % 4] - truth[i]).norm());
+  return e;
+}
+}  // namespace
+
+TEST(QuadFit, FindsARotatedSquareClockwiseToAFractionOfAPixel) {
+  const Corners truth = tilted(40.3, 35.7, 14, 0.35);
+  const ImageF img = scene(truth, 80, 70);
+  std::vector<Quad> quads;
+  ThresholdQuadWorkspace ws;
+  ThresholdQuadOptions opt;
+  opt.refine_edges = false;
+  find_threshold_quads(img, opt, ws, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  EXPECT_LT(corner_error(quads[0].corners, truth), 0.6);
+  const auto& q = quads[0].corners;  // clockwise on screen: positive cross product with y down
+  EXPECT_GT((q[1] - q[0]).x() * (q[2] - q[1]).y() - (q[1] - q[0]).y() * (q[2] - q[1]).x(), 0);
+  opt.refine_edges = true;
+  find_threshold_quads(img, opt, ws, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  EXPECT_LT(corner_error(quads[0].corners, truth), 0.25);
+}
+
+TEST(QuadFit, PerspectiveQuadAndHalvedStage) {
+  const Corners truth = {Eigen::Vector2d(30.2, 22.9), Eigen::Vector2d(95.6, 30.1), Eigen::Vector2d(88.3, 80.4),
+                         Eigen::Vector2d(36.7, 71.2)};
+  const ImageF img = scene(truth, 128, 100);
+  ThresholdQuadWorkspace ws;
+  std::vector<Quad> quads;
+  ThresholdQuadOptions opt;
+  opt.halve = true;
+  find_threshold_quads(img, opt, ws, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  EXPECT_LT(corner_error(quads[0].corners, truth), 0.3);  // refined on the full image
+  EXPECT_NEAR(quads[0].observed_perimeter, 65.8 + 51.1 + 52.1 + 49.3, 3.0);
+}
+
+TEST(QuadFit, RejectsLightSquaresUnlessAskedTooSmallOnesAndNonQuads) {
+  const Corners c = tilted(30, 30, 10, 0.2);
+  const ImageF light_in = scene(c, 60, 60, 0.85f, 0.15f);
+  ThresholdQuadWorkspace ws;
+  std::vector<Quad> quads;
+  ThresholdQuadOptions opt;
+  find_threshold_quads(light_in, opt, ws, quads);
+  EXPECT_TRUE(quads.empty());
+  opt.fit.light_inside = true;
+  opt.fit.dark_inside = false;
+  find_threshold_quads(light_in, opt, ws, quads);
+  EXPECT_EQ(quads.size(), 1u);
+
+  opt = {};
+  opt.fit.min_tag_width = 25;  // the square is 20 px: below
+  find_threshold_quads(scene(c, 60, 60), opt, ws, quads);
+  EXPECT_TRUE(quads.empty());
+
+  // A triangle and a disc are not quads.
+  opt = {};
+  const ImageF tri = synth::render_convex_polygon(60, 60, {{10, 50}, {30, 10}, {50, 50}}, 0.15f, 0.85f, 8);
+  find_threshold_quads(tri, opt, ws, quads);
+  EXPECT_TRUE(quads.empty());
+  std::vector<Eigen::Vector2d> disc;
+  for (int i = 0; i < 64; ++i) disc.emplace_back(30 + 18 * std::cos(i * M_PI / 32), 30 + 18 * std::sin(i * M_PI / 32));
+  find_threshold_quads(synth::render_convex_polygon(60, 60, disc, 0.15f, 0.85f, 8), opt, ws, quads);
+  EXPECT_TRUE(quads.empty());
+}
+
+TEST(QuadFit, TagLikeFrameGivesTheOuterSquareAndWorkspaceIsReused) {
+  // A dark square with a light square inside (the inner boundary is light-inside: rejected).
+  const Corners outer = tilted(50, 50, 20, 0.1), inner = tilted(50, 50, 10, 0.1);
+  ImageF img = synth::render_convex_polygon(100, 100, {outer[0], outer[1], outer[2], outer[3]}, 0.1f, 0.9f, 8);
+  const ImageF in = synth::render_convex_polygon(100, 100, {inner[0], inner[1], inner[2], inner[3]}, 1.0f, 0.0f, 8);
+  for (std::size_t i = 0; i < img.data.size(); ++i) img.data[i] = std::max(img.data[i], 0.9f * in.data[i]);
+  ThresholdQuadWorkspace ws;
+  std::vector<Quad> quads;
+  find_threshold_quads(img, {}, ws, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  EXPECT_LT(corner_error(quads[0].corners, outer), 0.25);
+  const auto before = std::vector<const void*>{ws.ternary.data.data(), ws.components.label.data(),
+                                               ws.groups.points.data(), ws.boundary_scratch.keys.data()};
+  find_threshold_quads(img, {}, ws, quads);
+  const auto after = std::vector<const void*>{ws.ternary.data.data(), ws.components.label.data(),
+                                              ws.groups.points.data(), ws.boundary_scratch.keys.data()};
+  EXPECT_EQ(before, after);
+}
+
+TEST(QuadFit, TinyAndRandomImagesRunCleanly) {
+  // Every size from 1 x 1 up (the 8-pixel skip, partial tiles, halving below 4 px) and random noise
+  // with the halved pass: no crash, no sanitizer report, and every quad inside the image.
+  ThresholdQuadWorkspace ws;
+  std::vector<Quad> quads;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int w = 1; w <= 19; w += 3)
+    for (int h = 1; h <= 13; h += 4) {
+      ImageF img(w, h);
+      for (float& v : img.data) v = u(rng);
+      for (bool halve : {false, true}) {
+        ThresholdQuadOptions opt;
+        opt.halve = halve;
+        opt.threshold.tile_size = 1 + (w + h) % 5;
+        EXPECT_NO_THROW(find_threshold_quads(img, opt, ws, quads));
+      }
+    }
+  ImageF noise(160, 120);
+  for (float& v : noise.data) v = u(rng) < 0.5f ? 0.1f : 0.9f;
+  for (bool halve : {false, true}) {
+    ThresholdQuadOptions opt;
+    opt.halve = halve;
+    opt.boundaries.min_component_pixels = 1;
+    opt.fit.min_tag_width = 3;
+    find_threshold_quads(noise, opt, ws, quads);
+    for (const Quad& q : quads)
+      for (const auto& c : q.corners) {
+        EXPECT_TRUE(std::isfinite(c.x()) && std::isfinite(c.y()));
+      }
+  }
+}

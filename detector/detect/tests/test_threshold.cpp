@@ -1,0 +1,79 @@
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "detect/threshold.hpp"
+#include "synthetic.hpp"
+
+using namespace tagbench;
+
+TEST(Threshold, FlatImageIsUnknownEverywhere) {
+  ImageF img(23, 17, 0.4f);
+  const TernaryImage t = adaptive_threshold(img);
+  ASSERT_EQ(t.width, 23);
+  ASSERT_EQ(t.height, 17);
+  for (auto v : t.data) EXPECT_EQ(v, kTernaryUnknown);
+}
+
+TEST(Threshold, StepEdgeIsClassedOnBothSidesAndFarRegionsAreUnknown) {
+  // Dark left half, light right half; 41 wide so the last tile is partial.
+  ImageF img(41, 10, 0.9f);
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 20; ++x) img.at(x, y) = 0.1f;
+  const TernaryImage t = adaptive_threshold(img);
+  for (int y = 0; y < 10; ++y) {
+    EXPECT_EQ(t.at(19, y), kTernaryDark);
+    EXPECT_EQ(t.at(20, y), kTernaryLight);
+    EXPECT_EQ(t.at(0, y), kTernaryUnknown);   // tiles 0-1 and their neighbours see only dark
+    EXPECT_EQ(t.at(40, y), kTernaryUnknown);  // the partial last tile and its neighbours see only light
+  }
+}
+
+TEST(Threshold, ContrastBelowTheMinimumIsUnknownAboveIsClassed) {
+  ImageF img(16, 16, 0.5f);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 8; x < 16; ++x) img.at(x, y) = 0.5f + 3.0f / 255.0f;
+  ThresholdOptions opt;
+  EXPECT_EQ(adaptive_threshold(img, opt).at(8, 3), kTernaryUnknown);
+  opt.min_contrast = 2.0f / 255.0f;
+  const TernaryImage t = adaptive_threshold(img, opt);
+  EXPECT_EQ(t.at(7, 3), kTernaryDark);
+  EXPECT_EQ(t.at(8, 3), kTernaryLight);
+}
+
+TEST(Threshold, FollowsALightingGradient) {
+  // A square whose dark is brighter than the far side's light: a global threshold cannot split both.
+  ImageF img(64, 32);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const float light = 0.2f + 0.7f * x / 63.0f;
+      img.at(x, y) = ((x / 8) % 2 == 0) ? light : 0.45f * light;
+    }
+  const TernaryImage t = adaptive_threshold(img);
+  // Every pixel whose 3 x 3-tile window spans a dark and a light stripe (all but the outermost tiles).
+  for (int x = 4; x < 60; ++x) EXPECT_EQ(t.at(x, 16), (x / 8) % 2 == 0 ? kTernaryLight : kTernaryDark) << x;
+}
+
+TEST(Threshold, RefusesBadOptions) {
+  ImageF img(8, 8, 0.5f);
+  ThresholdOptions opt;
+  opt.tile_size = 0;
+  EXPECT_THROW(adaptive_threshold(img, opt), std::invalid_argument);
+  opt = {};
+  opt.min_contrast = -1;
+  EXPECT_THROW(adaptive_threshold(img, opt), std::invalid_argument);
+}
+
+TEST(Threshold, ScratchReuseGivesTheSameResultWithoutReallocating) {
+  ImageF img = synth::render_convex_polygon(40, 30, {{10, 8}, {30, 9}, {29, 22}, {11, 21}}, 0.1f, 0.9f, 4);
+  ThresholdScratch s;
+  TernaryImage a, b;
+  adaptive_threshold(img, {}, s, a);
+  const auto* p = a.data.data();
+  const auto* q = s.tile_min.data();
+  adaptive_threshold(img, {}, s, a);
+  EXPECT_EQ(a.data.data(), p);
+  EXPECT_EQ(s.tile_min.data(), q);
+  adaptive_threshold(img, {}, s, b);
+  EXPECT_EQ(a.data, b.data);
+}

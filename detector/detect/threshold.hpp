@@ -1,0 +1,51 @@
+#pragma once
+// Local adaptive threshold (beyond the paper; AprilTag 2, Wang & Olson 2016, section III-A): every
+// pixel is classed dark, light or unknown against the midpoint of the minimum and maximum intensity
+// of its neighbourhood. The neighbourhood is tile based for speed: the image is cut into
+// tile_size x tile_size tiles, each tile's min and max are taken, and a pixel uses the min and max
+// over its own tile and the 8 around it (so neighbouring pixels share most of their window and the
+// threshold has no seams at tile borders). Where max - min < min_contrast nothing can be an edge:
+// the pixel is unknown and later stages skip it (flat regions cost nothing after this stage).
+//
+// Conventions (image.hpp): float intensities in [0, 1], x right, y down, row-major. The last tile of
+// a row or column may be partial (the image need not be a multiple of tile_size).
+#include <cstdint>
+#include <vector>
+
+#include "image.hpp"
+
+namespace tagbench {
+
+inline constexpr std::uint8_t kTernaryDark = 0;
+inline constexpr std::uint8_t kTernaryLight = 255;    // kTernaryDark + kTernaryLight == 255: "opposite classes"
+inline constexpr std::uint8_t kTernaryUnknown = 127;  // low contrast; never part of a component
+
+struct ThresholdOptions {
+  int tile_size = 4;                  // px, >= 1 (AprilTag 2/3 use 4: small enough to follow lighting)
+  float min_contrast = 5.0f / 255.0f; // max - min below this is flat: unknown (libapriltag min_white_black_diff 5/255)
+};
+
+// The classed image: one byte a pixel, values kTernaryDark, kTernaryLight or kTernaryUnknown.
+struct TernaryImage {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> data;  // row-major
+  std::uint8_t at(int x, int y) const {
+    return data[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)];
+  }
+};
+
+// Per-tile statistics, kept between frames (their storage only grows).
+struct ThresholdScratch {
+  std::vector<float> tile_min, tile_max, tmp_min, tmp_max;
+  std::vector<float> mid;           // per column of the current tile row: the threshold
+  std::vector<std::uint8_t> flat;   // per column: kTernaryUnknown where the tile is flat, else 0
+};
+
+// Classes every pixel of `img` into `out` (resized; storage reused). Throws std::invalid_argument
+// for tile_size < 1 or a negative or non-finite min_contrast.
+void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, ThresholdScratch& scratch, TernaryImage& out);
+
+// Convenience form with its own scratch (allocates per call).
+TernaryImage adaptive_threshold(const ImageF& img, const ThresholdOptions& opt = {});
+
+}  // namespace tagbench

@@ -1,0 +1,65 @@
+#include "detect/threshold_quads.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "detect/blur.hpp"
+
+namespace tagbench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double lap(Clock::time_point& t) {
+  const auto now = Clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - t).count();
+  t = now;
+  return ms;
+}
+
+}  // namespace
+
+void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, ThresholdQuadWorkspace& ws,
+                          std::vector<Quad>& out, ThresholdQuadStats* stats) {
+  out.clear();
+  ThresholdQuadStats st;
+  auto t = Clock::now();
+  const bool halve = opt.halve && img.width >= 4 && img.height >= 4;
+  if (halve) half_resolution(img, ws.half);
+  const ImageF& in = halve ? ws.half : img;
+  st.ms_halve = lap(t);
+  if (opt.blur_sigma > 0) gaussian_blur(in, opt.blur_sigma, ws.blur_tmp, ws.blurred);
+  const ImageF& th_in = opt.blur_sigma > 0 ? ws.blurred : in;
+  st.ms_blur = lap(t);
+
+  adaptive_threshold(th_in, opt.threshold, ws.threshold, ws.ternary);
+  st.ms_threshold = lap(t);
+  connected_components(ws.ternary, ws.component_scratch, ws.components);
+  st.ms_components = lap(t);
+  group_boundaries(ws.ternary, ws.components, opt.boundaries, ws.boundary_scratch, ws.groups);
+  st.ms_boundaries = lap(t);
+
+  QuadFitOptions fit = opt.fit;
+  if (halve) fit.min_tag_width = std::max(3.0, fit.min_tag_width / 2);
+  fit_quads(ws.groups, in, fit, ws.fit, out);
+  if (halve)
+    for (Quad& q : out) {
+      for (auto& c : q.corners) c = Eigen::Vector2d(full_from_half(c.x()), full_from_half(c.y()));
+      q.observed_perimeter *= 2;
+    }
+  st.ms_fit = lap(t);
+
+  if (opt.refine_edges) {
+    EdgeRefineOptions r = opt.refine;
+    if (halve) r.min_range_px = std::max(r.min_range_px, 2.0);
+    for (Quad& q : out)
+      if (const auto c = refine_quad_edges(img, q.corners, r)) q.corners = *c;
+  }
+  st.ms_refine = lap(t);
+  st.components = ws.components.count;
+  st.groups = ws.groups.count();
+  st.boundary_points = ws.groups.points.size();
+  st.quads = out.size();
+  if (stats) *stats = st;
+}
+
+}  // namespace tagbench

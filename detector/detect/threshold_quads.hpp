@@ -1,0 +1,58 @@
+#pragma once
+// The threshold-based quad-candidate stage (beyond the paper; AprilTag 2, Wang & Olson 2016) as one
+// call, an alternative to gradient -> segmentation -> line_fit -> quad_search:
+//   [halve (2x2 box average)] -> adaptive_threshold -> connected_components -> group_boundaries
+//   -> fit_quads -> [corners back to full resolution] -> [refine_quad_edges on the full image]
+// Output: quads in the Quad convention of quad_search.hpp (corners clockwise on screen, full-
+// resolution pixels, pixel centres at integers; segments = -1, observed_perimeter = the quad's
+// perimeter), ready for tag_homography + read_payload like the paper's quads.
+#include <vector>
+
+#include "boundaries.hpp"
+#include "components.hpp"
+#include "edge_refine.hpp"
+#include "image.hpp"
+#include "quad_fit.hpp"
+#include "quad_search.hpp"
+#include "threshold.hpp"
+
+namespace tagbench {
+
+struct ThresholdQuadOptions {
+  // Find candidates on a half-size image (2x2 block mean, blur.hpp's half_resolution): about 4x less
+  // work in every stage below, at the price of tags under ~20 px (AprilTag 3: quad_decimate 2).
+  bool halve = false;
+  // Gaussian blur (blur.hpp) of the image the threshold sees, px of that image; 0 = off. Smooths
+  // JPEG blocks and noise so thin rings stay connected; quads are still refined on the unblurred
+  // image. (AprilTag 3: quad_sigma, default 0.)
+  double blur_sigma = 0;
+  ThresholdOptions threshold;
+  BoundaryOptions boundaries;
+  QuadFitOptions fit;      // fit.min_tag_width is in full-resolution pixels (halved internally, >= 3)
+  bool refine_edges = true;  // refit the sides on the full-resolution image (edge_refine.hpp)
+  EdgeRefineOptions refine;  // min_range_px is raised to 2 px when halving (one half-size pixel either side)
+};
+
+// Reusable buffers (only grow; nothing is allocated per frame once one image size has been seen,
+// except the returned vector).
+struct ThresholdQuadWorkspace {
+  ImageF half, blurred, blur_tmp;
+  TernaryImage ternary;
+  ThresholdScratch threshold;
+  Components components;
+  ComponentScratch component_scratch;
+  BoundaryScratch boundary_scratch;
+  BoundaryGroups groups;
+  QuadFitScratch fit;
+};
+
+struct ThresholdQuadStats {
+  double ms_halve = 0, ms_blur = 0, ms_threshold = 0, ms_components = 0, ms_boundaries = 0, ms_fit = 0, ms_refine = 0;
+  std::size_t components = 0, groups = 0, boundary_points = 0, quads = 0;
+};
+
+// Appends the candidate quads of `img` to `out` (cleared first).
+void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, ThresholdQuadWorkspace& ws,
+                          std::vector<Quad>& out, ThresholdQuadStats* stats = nullptr);
+
+}  // namespace tagbench
