@@ -136,8 +136,10 @@ class Processor {
       const bool debug = s_.debug_dir.has_value();
       DetectorTrace trace;
       const auto t0 = std::chrono::steady_clock::now();
-      o.detections = detect(det_, img, ws, debug ? &trace : nullptr);
+      o.detections = detect(det_, img, ws, debug || !s_.explain.empty() ? &trace : nullptr);
       o.detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+      for (const ExplainPoint& p : s_.explain) o.explained.push_back(explain_point(p, trace, o.detections, det_));
 
       // Pictures: everything encoded first, then written (each atomically); on a failure the
       // pictures already written for this input are removed, so a failed input leaves nothing.
@@ -327,7 +329,8 @@ int cmd_detect(const Words& words) {
                        {"format"},
                        {"draw"},
                        {"debug-dir"},
-                       {"threads"}});
+                       {"threads"},
+                       {"explain", true, true}});
   if (a.positionals().empty()) throw UsageError("no input given (images, directories or videos)");
   Settings s = parse_settings(a);
 

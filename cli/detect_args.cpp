@@ -17,6 +17,7 @@ namespace fs = std::filesystem;
 const char* const kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
                        [--min-margin M] [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
                        [--profile default|paper] [--format json|csv] [--draw OUT] [--debug-dir DIR] [--threads T]
+                       [--explain X,Y[,FAMILY:ID]]...
 
 Detects tags in every input and prints the detections on stdout, in input order.
 Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted to gray), directories
@@ -48,6 +49,16 @@ Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted t
                        quads (every candidate; dot on its first corner), samples (the detected tags'
                        sample points: white ring white, black ring black, payload yellow)
   --threads T          images processed in parallel (default: all cores); output order is input order
+  --explain X,Y[,FAMILY:ID]
+                       why no tag was reported at pixel (X, Y) of each image (repeatable): the stage
+                       where it was lost, from the detection's trace. A detection whose quad holds the
+                       point: "detected". Else the candidate quad holding it that got furthest:
+                       quad_rejected (border pre-filter, degenerate corners, cells not readable),
+                       misread (read, not decoded within --max-hamming), below_margin, duplicate; with
+                       FAMILY:ID (the tag you expect there) also wrong_id and the bits of its code read
+                       wrong. No quad holds it: no_quad (segments within 50 px), no_segment (gradient
+                       clusters within 50 px), no_cluster. JSON: an "explain" list in each image (below);
+                       CSV: one line per point on stderr, "tagbench detect: INPUT: explain X,Y: STAGE: text"
 
 Errors: an input that cannot be read (missing, unreadable, 0 bytes, corrupt) prints one line on stderr
 naming it, the other inputs are still processed, and the exit status is 1. Bad options exit with 2.
@@ -68,7 +79,9 @@ JSON output (one document for the whole run):
                                "pose": {"R": [[3] x3], "t": [x,y,z], "reprojection_rms_px"}  (with --camera),
                                "pose_alternative": {same}  (when the planar ambiguity has a 2nd solution),
                                "timings_ms": {"blur","gradient","segmentation","line_fit","quads",
-                                              "decode","pose","total"} (of the frame)}]}],
+                                              "decode","pose","total"} (of the frame)}],
+               "explain": [{"at": [x,y], "given": "X,Y[,FAMILY:ID]", "stage", "bits_wrong": n or null,
+                            "quad": index or null, "text"}]  (with --explain only)}],
    "errors": [{"input": path, "error": message}]}
 Pixel centres are at integer coordinates; camera frame x right, y down, z forward; tag frame origin at
 the centre, x right, y down (as printed), z into the tag; X_cam = R X_tag + t (metres).
@@ -151,6 +164,7 @@ Settings parse_settings(const Args& a) {
     if (fs::exists(*s.debug_dir, ec) && !fs::is_directory(*s.debug_dir, ec))
       throw UsageError("--debug-dir " + *d + ": exists and is not a directory");
   }
+  for (const auto& e : a.all("explain")) s.explain.push_back(parse_explain_point(e));
   if (const auto d = a.get("draw")) {
     if (d->empty()) throw UsageError("--draw: empty path");
     s.draw = fs::path(*d);

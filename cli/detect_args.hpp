@@ -4,7 +4,10 @@
 #include <optional>
 #include <string>
 
+#include <vector>
+
 #include "cli/args.hpp"
+#include "cli/detect_explain.hpp"
 #include "detect/detector.hpp"
 
 namespace tagbench::cli::detect_cmd {
@@ -19,6 +22,7 @@ struct Settings {
   bool draw_is_file = false;
   std::optional<fs::path> debug_dir;
   int threads = 1;
+  std::vector<ExplainPoint> explain;  // --explain X,Y[,FAMILY:ID], repeatable
 };
 
 // The --help text (also the documentation of the JSON and CSV output).

@@ -10,6 +10,7 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "cli/detect_explain.hpp"
 #include "detect/detector.hpp"
 
 namespace tagbench::cli::detect_cmd {
@@ -40,6 +41,7 @@ struct Outcome {
   int width = 0, height = 0;
   double detect_ms = 0;
   std::vector<Detection> detections;
+  std::vector<PointExplanation> explained;  // --explain, in the options' order
 };
 
 // A source after expanding directories: an image, a video, or an error.

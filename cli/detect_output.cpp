@@ -118,11 +118,22 @@ void Sink::emit_json(const Outcome& o) {
          ", \"decode\": " + json_number(t.decode) + ", \"pose\": " + json_number(t.pose) +
          ", \"total\": " + json_number(t.total) + "}}";
   }
-  s += o.detections.empty() ? "]}" : "\n    ]}";
+  s += o.detections.empty() ? "]" : "\n    ]";
+  if (!s_.explain.empty()) {
+    s += ", \"explain\": [";
+    for (std::size_t i = 0; i < o.explained.size(); ++i) s += (i ? ", " : "") + explanation_json(o.explained[i]);
+    s += "]";
+  }
+  s += "}";
   put(s);
 }
 
 void Sink::emit_csv(const Outcome& o) {
+  for (const PointExplanation& e : o.explained) {  // CSV has no place for them: stderr, one line each
+    std::fprintf(stderr, "%stagbench detect: %s: explain %s: %s: %s\n", tty_ ? "\r\033[K" : "",
+                 one_line(o.label, true).c_str(), e.spec.c_str(), e.stage.c_str(), one_line(e.text, false).c_str());
+    std::fflush(stderr);
+  }
   for (const Detection& d : o.detections) {
     std::vector<std::string> f = {csv_field(o.label), csv_field(d.family), std::to_string(d.id),
                                   std::to_string(d.hamming), std::to_string(d.rotation), csv_num(d.decision_margin)};

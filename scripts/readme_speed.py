@@ -30,3 +30,25 @@ def speed_stages(d):
                      r["detections"], ratio, r.get("candidate_quads", "") or "-"])
     return table(["Detector", "Mode", "Image", "ms/frame (1 thread)", "Tags found (of 6)",
                   "Ours / libapriltag", "Candidate quads"], body)
+
+
+def _loss_table(path, detectors):
+    import loss_breakdown
+    rows_, stages = loss_breakdown.load(path)
+    known = {r["detector"] for r in rows_}
+    table_ = loss_breakdown.breakdown(rows_, stages, [d for d in detectors if d in known])
+    used = [s for s in stages if any(o[s] for o in table_)]
+    body = [[o["step"], o["detector"], o["frames"], o["detected"]] + [o[s] for s in used] for o in table_
+            if o["missed"] or o["step"] in ("all",)]
+    unit = table_[0]["step_unit"] if table_ else ""
+    return table([f"step ({unit})", "detector", "frames", "detected"] + [s[5:] for s in used], body)
+
+
+def loss_distance(d):
+    """Where the distance sweep's missed tags were lost, paper profile beside the default (steps with a miss)."""
+    return _loss_table(os.path.join(d, "fig10_distance_summary.csv"), ["tagbench-paper", "tagbench"])
+
+
+def loss_realistic(d):
+    """The same on the realistic set, per size bin."""
+    return _loss_table(os.path.join(d, "realistic_summary.csv"), ["tagbench-paper", "tagbench"])

@@ -48,6 +48,9 @@ RT_CACHE=$BUILD/raytrace-cache
 echo "bench: the realistic image set (small tags, JPEG photographs' camera; issue 17)" >&2
 "$BIN" realistic --frames 200 --out results
 "$PY" scripts/plot_realistic.py results
+# Where our detectors lost the tags they missed (issue 17, section 2): per distance step and size bin.
+"$PY" scripts/loss_breakdown.py results/fig10_distance_summary.csv --out results/fig10_distance_loss.csv
+"$PY" scripts/loss_breakdown.py results/realistic_summary.csv --out results/realistic_loss.csv
 
 echo "bench: detection peak memory at 640x480, 1920x1080 and 8000x8000" >&2
 # A fresh child process per measurement; making the 8000x8000 scene takes about 3 GB for a moment.

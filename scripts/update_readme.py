@@ -9,7 +9,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from readme_common import rows, table  # noqa: E402
 from readme_raytrace import _detectors, raytrace_conditions, raytrace_external_claims, raytrace_summary  # noqa: E402,F401
-from readme_speed import speed, speed_stages  # noqa: E402
+from readme_speed import loss_distance, loss_realistic, speed, speed_stages  # noqa: E402
 
 
 
@@ -270,7 +270,8 @@ def realistic_table(d):
     return table(["Black square", "Tags"] + [RT_NAMES.get(x, x) for x in dets], body)
 
 
-BLOCKS = {"pending": pending, "speed": speed, "speed_stages": speed_stages, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
+BLOCKS = {"pending": pending, "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
+          "loss_realistic": loss_realistic, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
           "raytrace_external_claims": raytrace_external_claims,
           "raytrace_conditions": raytrace_conditions, "fig6_table": fig6_table, "fig7_table": fig7_table,

@@ -296,8 +296,8 @@ std::vector<cv::Mat> load_gray(const std::vector<std::string>& files) {
 }
 
 void speed_table(const std::string& label, const std::vector<cv::Mat>& images, int reps) {
-  const std::vector<std::string> names = {"thresh-full", "libapriltag-d1", "thresh-half", "libapriltag-d2", "tagbench-full",
-                                          "tagbench-half", "thresh-full-tile2-contrast20", "thresh-half-tile2-contrast20"};
+  const std::vector<std::string> names = {"thresh-full", "libapriltag-d1", "thresh-half", "libapriltag-d2", "tagbench-paper",
+                                          "tagbench-paper-half", "thresh-full-tile2-contrast20", "thresh-half-tile2-contrast20"};
   auto dets = detectors("36h11", names);
   std::vector<double> sum(dets.size(), 0);
   std::vector<std::size_t> found(dets.size(), 0);
@@ -359,8 +359,8 @@ int main(int argc, char** argv) {
     cv::setNumThreads(1);
     const std::vector<std::string> a(argv + 1, argv + argc);
     if (a.size() < 2) throw std::invalid_argument("usage: thresh_quads realistic|small N [FAMILY] | speed REPS DIR | natural DIR [MAX]");
-    const std::vector<std::string> all = {"thresh-full", "thresh-half", "thresh-full-norefine", "tagbench-full",
-                                          "tagbench-half", "libapriltag-d1", "libapriltag-d2"};
+    const std::vector<std::string> all = {"thresh-full", "thresh-half", "thresh-full-norefine", "tagbench-paper",
+                                          "tagbench-paper-half", "libapriltag-d1", "libapriltag-d2"};
     if (a[0].rfind("defocus", 0) == 0) {  // defocusS N [FAMILY [DETECTORS]]
       kBins = {30, 60, 90, 130};
       const double sigma = std::stod(a[0].substr(7));

@@ -33,6 +33,10 @@ DetectorOutput Comparator::run(const cv::Mat& gray8) {
   return out;
 }
 
+std::optional<LossExplanation> Comparator::explain(const cv::Mat&, const std::string&, int, const Corners&) {
+  return std::nullopt;
+}
+
 namespace {
 
 bool wants_pose(const ComparatorSetup& s) { return s.camera.has_value(); }
@@ -108,6 +112,18 @@ class Ours final : public Comparator {
     }
     return out;
   }
+
+  std::optional<LossExplanation> explain(const cv::Mat& gray8, const std::string& family, int id,
+                                         const Corners& truth) override {
+    for (const TagFamily& f : detector_.families()) {
+      if (canonical_family_name(f.name()) != canonical_family_name(family)) continue;
+      DetectorTrace trace;
+      const std::vector<Detection> dets = tagbench::detect(detector_, gray8, workspace_, &trace);
+      return explain_loss({&f, id, truth}, trace, dets, detector_.options());
+    }
+    return std::nullopt;
+  }
+  bool can_explain() const override { return true; }
 
   Detector detector_;
   DetectorWorkspace workspace_;  // reused frame after frame (a Comparator is one thread's)

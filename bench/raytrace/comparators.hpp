@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "detect/explain_loss.hpp"
 #include "detect/homography.hpp"
 #include "detect/pose.hpp"
 #include "raytrace/render.hpp"
@@ -85,6 +86,13 @@ class Comparator {
   // Detects in an 8-bit gray image and times it. Not thread-safe: one object per thread. For
   // single-threaded timings call cv::setNumThreads(1) first (aruco uses OpenCV's thread pool).
   DetectorOutput run(const cv::Mat& gray8);
+  // Why the tag `family` `id` whose black square is at `truth` (printed TL, TR, BR, BL, pixels) was not
+  // reported in this image: the stage where it was lost (detect/explain_loss.hpp), found by detecting
+  // again with a trace (untimed: the sweeps ask only about missed frames, after timing them). nullopt
+  // when this detector cannot say (can_explain() false: libapriltag, aruco) or does not know the family.
+  virtual std::optional<LossExplanation> explain(const cv::Mat& gray8, const std::string& family, int id,
+                                                 const Corners& truth);
+  virtual bool can_explain() const { return false; }
 
  protected:
   explicit Comparator(std::string name) : name_(std::move(name)) {}

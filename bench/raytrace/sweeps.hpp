@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "raytrace/comparators.hpp"
+#include "raytrace/loss_columns.hpp"
 #include "raytrace/render.hpp"
 
 namespace cv {
@@ -119,6 +120,9 @@ struct SweepRow {
   double orientation_error_deg, distance_error_m, distance_error_percent, corner_rms_px;
   double decision_margin;    // of that detection, as Found::decision_margin (NaN: not detected, or not reported)
   double ms = 0;             // the detector's time on this frame, one thread
+  // Where the tag was lost (detect/explain_loss.hpp) when not detected with the right id; nullopt when
+  // detected, or when the detector cannot say (Comparator::can_explain). CSV: loss_stage, loss_bits.
+  std::optional<LossExplanation> loss;
 };
 
 struct FailedFrame {
@@ -131,6 +135,7 @@ struct SweepResult {
   std::vector<SweepFrame> frames;
   std::vector<SweepRow> rows;  // frame order, then detector order; none for frames that failed to render
   std::vector<FailedFrame> failed;
+  std::vector<bool> can_explain;  // per settings.detectors: gives its missed frames a loss stage
   std::size_t distinct_frames = 0, rendered = 0, from_cache = 0;  // distinct renders (as RenderReport)
   int povray_runs = 0;
   double render_seconds = 0, detect_seconds = 0;
@@ -165,6 +170,7 @@ struct SummaryRow {
   double detection_rate = 0, rate_lo95 = 0, rate_hi95 = 0;  // Wilson score interval (bench/stats.hpp)
   double black_square_px_median = 0, ms_median = 0;
   ErrorStats orientation_deg, distance_m, distance_percent, corner_rms_px;
+  LossCounts lost;  // missed frames by the stage where the tag was lost (loss_columns.hpp)
 };
 std::vector<SummaryRow> summarize(const SweepResult& result);
 

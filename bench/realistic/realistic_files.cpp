@@ -29,7 +29,8 @@ std::string realistic_rows_csv(const RealisticResult& r) {
   std::string o =
       "set,seed,family,frame,frame_seed,blur_sigma_px,motion_blur_px,full_well_e,read_noise_e,jpeg_quality,exposure,"
       "shadow,tag,id,black_square_px,size_bin,mean_edge_px,tilt_deg,roll_deg,center_x,center_y,ink,paper,light,"
-      "detector,detected,wrong_id,corner_rms_px,decision_margin,ms\n";
+      "detector,detected,wrong_id,corner_rms_px,decision_margin,ms" +
+      loss_header() + "\n";
   const std::string pre = settings_prefix(r);
   for (const TagScore& sc : r.scores) {
     const RealisticFrameInfo& f = r.frames[sc.frame];
@@ -44,7 +45,7 @@ std::string realistic_rows_csv(const RealisticResult& r) {
          num(t.roll_deg, "%.4f") + "," + num(c.x(), "%.4f") + "," + num(c.y(), "%.4f") + "," + num(t.ink, "%.4f") +
          "," + num(t.paper, "%.4f") + "," + num(t.light, "%.4f") + "," + sc.detector + "," +
          (sc.detected ? "1" : "0") + "," + (sc.wrong_id ? "1" : "0") + "," + num(sc.corner_rms_px, "%.6g") + "," +
-         num(sc.decision_margin, "%.6g") + "," + num(sc.ms, "%.4f") + "\n";
+         num(sc.decision_margin, "%.6g") + "," + num(sc.ms, "%.4f") + loss_cells(sc.loss) + "\n";
   }
   return o;
 }
@@ -62,13 +63,14 @@ std::string realistic_false_csv(const RealisticResult& r) {
 std::string realistic_summary_csv(const RealisticResult& r, const std::vector<RealisticSummaryRow>& summary) {
   std::string o =
       "set,seed,family,frames,size_bin,bin_lo_px,bin_hi_px,detector,tags,detected,detection_rate,rate_lo95,rate_hi95,"
-      "wrong_id_tags,false_detections,corner_rms_px_median,corner_rms_px_p90\n";
+      "wrong_id_tags,false_detections,corner_rms_px_median,corner_rms_px_p90" +
+      lost_header() + "\n";
   const std::string pre = settings_prefix(r) + std::to_string(r.frames.size()) + ",";
   for (const auto& s : summary)
     o += pre + s.bin + "," + num(s.bin_lo) + "," + num(s.bin_hi) + "," + s.detector + "," + std::to_string(s.tags) +
          "," + std::to_string(s.detected) + "," + num(s.rate, "%.6g") + "," + num(s.rate_lo95, "%.6g") + "," +
          num(s.rate_hi95, "%.6g") + "," + std::to_string(s.wrong_id_tags) + "," + std::to_string(s.false_detections) +
-         "," + num(s.corner_rms_px_median, "%.6g") + "," + num(s.corner_rms_px_p90, "%.6g") + "\n";
+         "," + num(s.corner_rms_px_median, "%.6g") + "," + num(s.corner_rms_px_p90, "%.6g") + lost_cells(s.lost) + "\n";
   return o;
 }
 
@@ -111,7 +113,9 @@ std::string realistic_sidecar_json(const RealisticResult& r, const std::vector<R
                    "square); every other detection is false (realistic_false.csv), a wrong id when its centre is in "
                    "a tag's black square; size bins by sqrt of the black square's area (false detections: of their "
                    "quad); rates with Wilson 95 % intervals; corner RMS percentiles over detected tags; ms: the "
-                   "detector's wall time on the whole frame, one thread") +
+                   "detector's wall time on the whole frame, one thread; loss_stage and loss_bits (detectors that can say, "
+                   "ours): where a missed tag was lost and the bits of its code read wrong (detect/explain_loss.hpp), "
+                   "found by detecting again with a trace after timing; summary lost_STAGE: missed tags per stage") +
        ",\n";
   j += "  \"frames\": " + std::to_string(r.frames.size()) + ", \"tags\": " + std::to_string(tags) +
        ", \"false_detections\": " + std::to_string(r.false_detections.size()) + ",\n  \"generate_seconds\": " +

@@ -89,6 +89,7 @@ RealisticResult run_realistic(const RealisticRunSettings& settings, const std::f
   setup.family = s.set.family;
   std::vector<std::unique_ptr<Comparator>> dets;
   for (const auto& name : s.detectors) dets.push_back(make_comparator(name, setup));  // throws for a family it lacks
+  for (const auto& det : dets) r.can_explain.push_back(det->can_explain());
   const int threads = cv::getNumThreads();
   cv::setNumThreads(1);  // one thread per detector, as in the sweeps (aruco uses OpenCV's pool)
   struct Restore {
@@ -105,13 +106,14 @@ RealisticResult run_realistic(const RealisticRunSettings& settings, const std::f
     const std::size_t fi = r.frames.size();
     r.frames.push_back({f.index, f.frame_seed, f.image.cols, f.image.rows, f.camera, f.degradation, f.tags});
     const auto t2 = Clock::now();
+    const std::size_t frame_first = r.scores.size();  // then detector-major: frame_first + d * tags + t
     for (std::size_t d = 0; d < dets.size(); ++d) {
       const DetectorOutput out = dets[d]->run(f.image);
       std::vector<bool> used(out.found.size(), false);
       const std::size_t first = r.scores.size();
       for (std::size_t t = 0; t < f.tags.size(); ++t) {
         const RealisticTag& tag = f.tags[t];
-        TagScore sc{fi, t, s.detectors[d], false, false, kNaN, kNaN, out.ms};
+        TagScore sc{fi, t, s.detectors[d], false, false, kNaN, kNaN, out.ms, std::nullopt};
         const double tol = std::max(2.0, 0.2 * tag.black_square_px);
         int best = -1;
         double best_err = tol;
@@ -142,6 +144,12 @@ RealisticResult run_realistic(const RealisticRunSettings& settings, const std::f
       }
     }
     r.detect_seconds += std::chrono::duration<double>(Clock::now() - t2).count();
+    // Where each missed tag was lost, for the detectors that can say: detected again with a trace, untimed.
+    for (std::size_t d = 0; d < dets.size(); ++d)
+      for (std::size_t t = 0; t < f.tags.size(); ++t) {
+        TagScore& sc = r.scores[frame_first + d * f.tags.size() + t];
+        if (!sc.detected) sc.loss = dets[d]->explain(f.image, f.tags[t].family, f.tags[t].id, f.tags[t].corners);
+      }
     if (progress) progress(static_cast<std::size_t>(i + 1), static_cast<std::size_t>(s.frames));
   }
   // Tag-major order within a frame reads better: frame, tag, detector.
@@ -168,6 +176,7 @@ std::vector<RealisticSummaryRow> summarize_realistic(const RealisticResult& r) {
       Acc& a = slot(bin, sc.detector);
       ++a.row.tags;
       if (sc.wrong_id) ++a.row.wrong_id_tags;
+      a.row.lost.add(sc.loss);
       if (!sc.detected) continue;
       ++a.row.detected;
       a.err.push_back(sc.corner_rms_px);
@@ -185,6 +194,8 @@ std::vector<RealisticSummaryRow> summarize_realistic(const RealisticResult& r) {
       RealisticSummaryRow row = a.row;
       row.bin = bins[bi];
       row.detector = d;
+      for (std::size_t k = 0; k < dets.size() && k < r.can_explain.size(); ++k)
+        if (dets[k] == d) row.lost.explains = r.can_explain[k];
       if (bi < size_bins().size()) {
         row.bin_lo = size_bins()[bi].lo;
         row.bin_hi = size_bins()[bi].hi;

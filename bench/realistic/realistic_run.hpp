@@ -10,9 +10,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "raytrace/loss_columns.hpp"
 #include "realistic/realistic_set.hpp"
 
 namespace tagbench::bench {
@@ -47,6 +49,8 @@ struct TagScore {
   bool detected = false, wrong_id = false;
   double corner_rms_px, decision_margin;  // of the detection; NaN when not detected (margin: also when not reported)
   double ms = 0;                          // the detector's time on the whole frame, one thread
+  // Where a missed tag was lost (loss_columns.hpp); nullopt when detected or the detector cannot say.
+  std::optional<LossExplanation> loss;
 };
 
 struct FalseDetection {
@@ -63,6 +67,7 @@ struct RealisticResult {
   std::vector<RealisticFrameInfo> frames;
   std::vector<TagScore> scores;      // frame, tag, then detector order
   std::vector<FalseDetection> false_detections;
+  std::vector<bool> can_explain;     // per settings.detectors (Comparator::can_explain)
   double generate_seconds = 0, detect_seconds = 0;
 };
 
@@ -81,6 +86,7 @@ struct RealisticSummaryRow {
   int tags = 0, detected = 0, wrong_id_tags = 0, false_detections = 0;
   double rate = 0, rate_lo95 = 0, rate_hi95 = 0;
   double corner_rms_px_median, corner_rms_px_p90;  // over the detected tags; NaN when none
+  LossCounts lost;                   // missed tags by the stage where they were lost
 };
 // Bin order (the used bins, then "all"), detector order within a bin.
 std::vector<RealisticSummaryRow> summarize_realistic(const RealisticResult& result);

@@ -11,6 +11,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "csv_timing.hpp"
 #include "realistic/realistic_set.hpp"
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
@@ -37,11 +38,7 @@ std::vector<std::string> lines(const std::string& text) {
   return out;
 }
 
-std::string without_ms(const std::string& csv) {  // the timing column is the last
-  std::string out;
-  for (const auto& l : lines(csv)) out += l.substr(0, l.rfind(',')) + "\n";
-  return out;
-}
+std::string without_ms(const std::string& csv) { return tagbench::testing::csv_without_timing(csv); }
 
 }  // namespace
 
@@ -58,9 +55,23 @@ TEST(CliRealistic, SmallRunWritesItsFilesWithHeaders) {
   EXPECT_GE(rows.size() - 1, 2u * 2 * 4);
   EXPECT_LE(rows.size() - 1, 2u * 2 * 10);
   EXPECT_EQ(rows[1].rfind("realistic,5,36h11,0,", 0), 0u);
+  // Where each missed tag was lost (issue 17): ours says, libapriltag cannot; a detected tag says nothing.
+  ASSERT_NE(rows[0].find(",detector,detected,wrong_id,corner_rms_px,decision_margin,ms,loss_stage,loss_bits"),
+            std::string::npos)
+      << rows[0];
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    std::vector<std::string> f;
+    std::stringstream in(rows[i]);
+    for (std::string c; std::getline(in, c, ',');) f.push_back(c);
+    if (rows[i].back() == ',') f.push_back("");
+    ASSERT_EQ(f.size(), 32u) << rows[i];
+    const bool ours = f[24] == "tagbench-paper", detected = f[25] == "1";
+    EXPECT_EQ(f[30].empty(), detected || !ours) << rows[i];
+  }
   const auto summary = lines(slurp(out / "realistic_summary.csv"));
   ASSERT_GE(summary.size(), 3u);
   EXPECT_EQ(summary[0].rfind("set,seed,family,frames,size_bin,", 0), 0u);
+  EXPECT_NE(summary[0].find(",corner_rms_px_p90,lost_no_cluster,"), std::string::npos) << summary[0];
   EXPECT_NE(summary.back().find(",all,"), std::string::npos);
   EXPECT_EQ(lines(slurp(out / "realistic_false.csv"))[0].rfind("set,seed,family,frame,detector,", 0), 0u);
   EXPECT_NE(slurp(out / "realistic.json").find("\"tool\": \"tagbench realistic\""), std::string::npos);

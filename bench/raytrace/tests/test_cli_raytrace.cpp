@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "csv_timing.hpp"
 #include "raytrace/render.hpp"
 #include "test_frames.hpp"
 
@@ -43,11 +44,7 @@ std::vector<std::string> lines(const std::string& text) {
 }
 
 // The rows without the timing column (the last one).
-std::string without_ms(const std::string& csv) {
-  std::string out;
-  for (const auto& l : lines(csv)) out += l.substr(0, l.rfind(',')) + "\n";
-  return out;
-}
+std::string without_ms(const std::string& csv) { return tagbench::testing::csv_without_timing(csv); }
 
 std::string common(const fs::path& out) {
   return "--processes 1 --cache " + tagbench::bench::test::shared_cache().string() + " --out " + out.string();

@@ -18,6 +18,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "csv_timing.hpp"
 #include "raytrace/render.hpp"
 #include "tools/atomic_file.hpp"
 
@@ -48,12 +49,7 @@ std::string sweep(const fs::path& cache, const fs::path& out, int processes) {
 }
 
 // A CSV without its last column (the timing: ms in the rows, ms_median in the summary).
-std::string without_timing(const std::string& csv) {
-  std::istringstream in(csv);
-  std::string out;
-  for (std::string l; std::getline(in, l);) out += l.substr(0, l.rfind(',')) + "\n";
-  return out;
-}
+std::string without_timing(const std::string& csv) { return tagbench::testing::csv_without_timing(csv); }
 
 // The JSON sidecar without the render report's counts and times, which say how the frames were
 // obtained (rendered, from the cache, in how many povray runs), not what they are.

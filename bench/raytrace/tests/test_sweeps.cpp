@@ -337,8 +337,18 @@ void check_rows_and_summary(const SweepResult& r) {
   EXPECT_EQ(csv[0],
             "experiment,condition,step,step_unit,trial,seed,id,scene,family,tag_size_m,distance_m,phi_deg,"
             "tilt_axis_deg,roll_deg,image_x,image_y,black_square_px,detector,detected_right_id,wrong_id,"
-            "orientation_error_deg,distance_error_m,distance_error_percent,corner_rms_px,decision_margin,ms");
-  for (std::size_t i = 1; i < csv.size(); ++i) EXPECT_EQ(fields(csv[i]).size(), 26u) << csv[i];
+            "orientation_error_deg,distance_error_m,distance_error_percent,corner_rms_px,decision_margin,ms,loss_stage,"
+            "loss_bits");
+  for (std::size_t i = 1; i < csv.size(); ++i) {
+    const auto f = fields(csv[i]);
+    ASSERT_EQ(f.size(), 28u) << csv[i];
+    // A loss stage exactly for the missed frames of a detector that can explain (ours).
+    const SweepRow& row = r.rows[i - 1];
+    const bool ours = row.detector.rfind("tagbench", 0) == 0;
+    EXPECT_EQ(f[26].empty(), row.detected_right_id || !ours) << csv[i];
+    EXPECT_EQ(row.loss.has_value(), !f[26].empty());
+    if (!f[27].empty()) { EXPECT_TRUE(f[26] == "misread" || f[26] == "wrong_id") << csv[i]; }
+  }
   const auto summary = summarize(r);
   const auto sum_csv = lines(summary_csv(r, summary));
   ASSERT_EQ(sum_csv.size(), summary.size() + 1);
@@ -357,6 +367,10 @@ void check_rows_and_summary(const SweepResult& r) {
     EXPECT_EQ(s.frames, frames);
     EXPECT_EQ(s.detected, detected);
     EXPECT_EQ(s.wrong_id_frames, wrong);
+    int lost = 0;
+    for (const int n : s.lost.lost) lost += n;
+    EXPECT_EQ(s.lost.explains, s.detector.rfind("tagbench", 0) == 0) << s.detector;
+    if (s.lost.explains) { EXPECT_EQ(lost, frames - detected) << s.detector << " step " << s.step; }
     EXPECT_DOUBLE_EQ(s.detection_rate, static_cast<double>(detected) / frames);
     EXPECT_LE(s.rate_lo95, s.detection_rate);
     EXPECT_GE(s.rate_hi95, s.detection_rate);
@@ -445,6 +459,47 @@ TEST(SweepRun, SmallDistanceSweepRecordsTheBlackSquareWidth) {
   for (std::size_t i = 0; i < r.frames.size(); ++i) {
     EXPECT_TRUE(row_for(r, i, "tagbench-paper").detected_right_id) << r.frames[i].step;
     EXPECT_TRUE(row_for(r, i, "libapriltag-d1").detected_right_id) << r.frames[i].step;
+  }
+}
+
+// Issue 17, section 2: a tag too small to be found has a loss stage for our detectors (none for the
+// others, which cannot say); a detected frame has none; the summary counts the stages.
+TEST(SweepRun, AMissedFrameSaysWhereTheTagWasLost) {
+  REQUIRE_POVRAY();
+  SweepSettings s = settings(Experiment::kDistance, 1, {3, 80});  // 133 px, then 5 px: below any quad
+  s.detectors = {"tagbench-paper", "tagbench-paper-half", "libapriltag-d1"};
+  const SweepResult r = run_sweep(s, options());
+  ASSERT_TRUE(r.failed.empty());
+  check_rows_and_summary(r);
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    for (const char* name : {"tagbench-paper", "tagbench-paper-half"}) {
+      const SweepRow& row = row_for(r, i, name);
+      if (r.frames[i].step == 3) {
+        EXPECT_TRUE(row.detected_right_id) << name;
+        EXPECT_FALSE(row.loss) << name;
+      } else {
+        EXPECT_FALSE(row.detected_right_id) << name;
+        ASSERT_TRUE(row.loss) << name;
+        EXPECT_LT(row.loss->stage, LossStage::kQuadRejected) << name << ": " << row.loss->text;
+      }
+    }
+    EXPECT_FALSE(row_for(r, i, "libapriltag-d1").loss);
+  }
+  const auto sum = lines(summary_csv(r, summarize(r)));
+  EXPECT_NE(sum[0].find(",ms_median,lost_no_cluster,lost_no_segment,lost_no_quad,lost_quad_rejected,lost_misread,"
+                        "lost_wrong_id,lost_duplicate,lost_below_margin"),
+            std::string::npos)
+      << sum[0];
+  for (std::size_t i = 1; i < sum.size(); ++i) {
+    const auto f = fields(sum[i]);
+    ASSERT_EQ(f.size(), 33u) << sum[i];
+    const bool ours = f[4].rfind("tagbench", 0) == 0;
+    int lost = 0;
+    for (std::size_t k = 25; k < 33; ++k) {
+      EXPECT_EQ(f[k].empty(), !ours) << sum[i];
+      if (ours) lost += std::stoi(f[k]);
+    }
+    if (ours) { EXPECT_EQ(lost, std::stoi(f[5]) - std::stoi(f[6])) << sum[i]; }
   }
 }
 

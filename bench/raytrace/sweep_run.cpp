@@ -1,0 +1,155 @@
+// The run: render the planned frames, put every rendered frame through every detector, one row each.
+#include <chrono>
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+#include <opencv2/core.hpp>
+
+#include "codes/families.hpp"
+#include "raytrace/sweep_detail.hpp"
+#include "raytrace/sweeps.hpp"
+
+namespace tagbench::bench {
+
+using namespace sweep_detail;
+
+namespace {
+
+using DetectorSet = std::vector<std::unique_ptr<Comparator>>;
+
+DetectorSet make_detectors(const SweepSettings& s, std::optional<double> k1) {
+  ComparatorSetup setup;
+  setup.family = s.family;
+  setup.camera = render_camera();
+  setup.tag_size = *s.tag_size;
+  if (k1) setup.distortion = std::array<double, 5>{*k1, 0, 0, 0, 0};
+  DetectorSet set;
+  for (const auto& name : s.detectors) set.push_back(make_comparator(name, setup));
+  return set;
+}
+
+SweepRow row_of(const DetectorOutput& out, const std::string& detector, std::size_t index, const SweepFrame& f) {
+  SweepRow r;
+  r.frame = index;
+  r.detector = detector;
+  r.ms = out.ms;
+  r.orientation_error_deg = r.distance_error_m = r.distance_error_percent = r.corner_rms_px = kNaN;
+  r.decision_margin = kNaN;
+  const Found* best = nullptr;
+  FoundErrors best_e;
+  for (const Found& found : out.found) {
+    if (found.id != f.frame.id || canonical_family_name(found.family) != canonical_family_name(f.frame.family)) {
+      r.wrong_id = true;
+      continue;
+    }
+    const FoundErrors e = found_errors(found, f.truth);
+    if (!best || e.corner_rms_px < best_e.corner_rms_px) {
+      best = &found;
+      best_e = e;
+    }
+  }
+  if (best) {
+    r.detected_right_id = true;
+    r.corner_rms_px = best_e.corner_rms_px;
+    r.orientation_error_deg = best_e.orientation_deg;
+    r.distance_error_m = best_e.distance_m;
+    r.distance_error_percent = best_e.distance_percent;
+    r.decision_margin = best->decision_margin;
+  }
+  return r;
+}
+
+}  // namespace
+
+SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_options, const SweepProgress& progress) {
+  SweepResult res;
+  res.settings = resolve_settings(settings);
+  res.frames = plan_sweep(res.settings);
+  const SweepSettings& s = res.settings;
+  DetectorSet plain = make_detectors(s, std::nullopt);  // a bad detector setup fails before any rendering
+  for (const auto& det : plain) res.can_explain.push_back(det->can_explain());
+
+  std::vector<FramePose> poses;
+  poses.reserve(res.frames.size());
+  for (const auto& f : res.frames) poses.push_back(f.frame);
+  render_options.progress = progress.render;
+  const RenderReport report = render_frames(poses, scene_template(s.scene), render_options);
+  res.rendered = report.rendered;
+  res.from_cache = report.from_cache;
+  res.distinct_frames = report.rendered + report.from_cache + report.failed;
+  res.povray_runs = report.povray_runs;
+  res.render_seconds = report.seconds;
+  for (std::size_t i = 0; i < res.frames.size(); ++i) {
+    if (report.frames[i].ok()) continue;
+    res.failed.push_back({i, report.frames[i].error});
+    if (progress.failed) progress.failed(res.frames[i], report.frames[i].error);
+  }
+  if (!res.frames.empty() && res.failed.size() == res.frames.size())
+    throw std::runtime_error("none of the " + std::to_string(res.frames.size()) +
+                             " frames rendered: " + res.failed.front().error);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const int saved_threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  struct Restore {
+    int n;
+    ~Restore() { cv::setNumThreads(n); }
+  } restore{saved_threads};
+  std::map<double, DetectorSet> distorted;             // per k1
+  // An unmodified frame runs once (the conditions' zero-strength baselines share their render; same truth).
+  struct FrameRun {
+    std::vector<DetectorOutput> outputs;
+    std::vector<SweepRow> rows;  // with their loss explanations
+  };
+  std::map<std::string, FrameRun> plain_runs;
+  std::string gray_path;
+  cv::Mat gray;
+  const std::size_t total = res.frames.size() - res.failed.size();
+  std::size_t done = 0;
+  for (std::size_t i = 0; i < res.frames.size(); ++i) {
+    if (!report.frames[i].ok()) continue;
+    const SweepFrame& f = res.frames[i];
+    const std::string png = report.frames[i].png.string();
+    const bool unmodified = f.effect.strength == 0 || f.effect.condition == Condition::kOcclusion ||
+                            f.effect.condition == Condition::kBent;
+    const FrameRun* run = nullptr;
+    FrameRun fresh;
+    if (unmodified) {
+      if (auto it = plain_runs.find(png); it != plain_runs.end()) run = &it->second;
+    }
+    if (!run) {
+      if (png != gray_path) {
+        gray = read_frame_gray(png);
+        gray_path = png;
+      }
+      const cv::Mat image = apply_effect(gray, f);
+      DetectorSet* set = &plain;
+      if (f.effect.condition == Condition::kDistortion && f.effect.strength != 0) {
+        const double k1 = -f.effect.strength;
+        auto it = distorted.find(k1);
+        if (it == distorted.end()) it = distorted.emplace(k1, make_detectors(s, k1)).first;
+        set = &it->second;
+      }
+      for (auto& det : *set) fresh.outputs.push_back(det->run(image));
+      // Explanations after every detector has run and been timed: a missed frame is detected again, with a trace.
+      for (std::size_t k = 0; k < set->size(); ++k) {
+        fresh.rows.push_back(row_of(fresh.outputs[k], s.detectors[k], i, f));
+        if (!fresh.rows.back().detected_right_id)
+          fresh.rows.back().loss = (*set)[k]->explain(image, f.frame.family, f.frame.id, f.truth.corners);
+      }
+      if (unmodified) run = &plain_runs.emplace(png, std::move(fresh)).first->second;
+      else run = &fresh;
+    }
+    for (SweepRow row : run->rows) {
+      row.frame = i;
+      res.rows.push_back(std::move(row));
+    }
+    ++done;
+    if (progress.detect) progress.detect(done, total);
+  }
+  res.detect_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace tagbench::bench
