@@ -1,5 +1,6 @@
 #pragma once
-// <tagbench/detector.hpp>: the AprilTag detector of the 2011 paper (E. Olson, ICRA 2011).
+// <tagbench/detector.hpp>: the AprilTag detector, in two profiles: the 2011 paper's (E. Olson, ICRA 2011;
+// DetectorOptions::paper()) and the default profile (DetectorOptions{}).
 //
 // What a user needs, and nothing of OpenCV (cv::Mat input: <tagbench/opencv.hpp>):
 //   tagbench::DetectorOptions  settings, each with its documented default; the defaults are the
