@@ -10,7 +10,7 @@ ASAN_BUILD ?= build-asan
 ASAN_CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
                     -DTAGBENCH_SANITIZE=ON
 
-.PHONY: all deps configure build test test-asan bench families clean
+.PHONY: all deps configure build test test-asan bench families clean install deb
 
 all: build
 
@@ -32,6 +32,16 @@ test-asan: deps
 	@cmake -S . -B $(ASAN_BUILD) $(ASAN_CMAKE_FLAGS) >/dev/null
 	@cmake --build $(ASAN_BUILD) -j$(JOBS)
 	cd $(ASAN_BUILD) && ctest --output-on-failure -j$(JOBS)
+
+# Installs what `make` built (library, headers, program, families, CMake and pkg-config files, the
+# Python module) under PREFIX, without rebuilding anything else (cmake --install).
+PREFIX ?= /usr/local
+install: build
+	cmake --install $(BUILD) --prefix $(PREFIX)
+
+# Debian packages tagbench, libtagbench-dev and python3-tagbench in $(BUILD)/deb (cmake/packaging.cmake).
+deb: build
+	cd $(BUILD) && cpack -G DEB -B deb
 
 # Regenerates everything in results/ (CSV, JSON sidecars, PNG plots) and the README's tables.
 bench: build

@@ -6,6 +6,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev
+  pybind11-dev python3-dev python3-numpy python3-pil
   libopencv-dev libopencv-contrib-dev
   povray
   libbenchmark-dev libgtest-dev

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "codes/tag_family.hpp"
+#include "tag_family.hpp"
 
 namespace tagbench {
 

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "codes/bits.hpp"
+#include "bits.hpp"
 
 namespace tagbench {
 

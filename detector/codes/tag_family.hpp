@@ -11,8 +11,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "codes/bits.hpp"
-#include "codes/hamming_scan.hpp"
+#include "bits.hpp"
+#include "hamming_scan.hpp"
 
 namespace tagbench {
 

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "detect/components.hpp"
+#include "components.hpp"
 
 namespace tagbench {
 

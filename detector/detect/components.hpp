@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "detect/threshold.hpp"
+#include "threshold.hpp"
 
 namespace tagbench {
 

@@ -24,15 +24,15 @@
 
 #include <Eigen/Core>
 
-#include "codes/tag_family.hpp"
-#include "detect/image.hpp"
-#include "detect/line_fit.hpp"
-#include "detect/payload_area.hpp"
-#include "detect/payload_decode.hpp"
-#include "detect/pose.hpp"
-#include "detect/quad_search.hpp"
-#include "detect/segmentation.hpp"
-#include "detect/threshold_quads.hpp"
+#include "../codes/tag_family.hpp"
+#include "image.hpp"
+#include "line_fit.hpp"
+#include "payload_area.hpp"
+#include "payload_decode.hpp"
+#include "pose.hpp"
+#include "quad_search.hpp"
+#include "segmentation.hpp"
+#include "threshold_quads.hpp"
 
 namespace tagbench {
 

@@ -7,8 +7,8 @@
 
 #include <opencv2/core/mat.hpp>
 
-#include "detect/detector.hpp"
-#include "detect/image.hpp"
+#include "detector.hpp"
+#include "image.hpp"
 
 namespace tagbench {
 

@@ -28,8 +28,8 @@
 // not convex, so a caller keeps the quad it had.
 #include <optional>
 
-#include "detect/homography.hpp"
-#include "detect/image.hpp"
+#include "homography.hpp"
+#include "image.hpp"
 
 namespace tagbench {
 

@@ -10,7 +10,7 @@
 // The 1-pixel image border has no central difference: mag = theta = 0 there.
 #include <vector>
 
-#include "detect/image.hpp"
+#include "image.hpp"
 
 namespace tagbench {
 

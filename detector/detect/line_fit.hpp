@@ -25,7 +25,7 @@
 
 #include <Eigen/Core>
 
-#include "detect/segmentation.hpp"
+#include "segmentation.hpp"
 
 namespace tagbench {
 

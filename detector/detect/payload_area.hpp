@@ -18,8 +18,8 @@
 
 #include <Eigen/Core>
 
-#include "detect/image.hpp"
-#include "detect/payload_decode.hpp"
+#include "image.hpp"
+#include "payload_decode.hpp"
 
 namespace tagbench {
 

@@ -17,8 +17,8 @@
 
 #include <Eigen/Core>
 
-#include "codes/bits.hpp"
-#include "detect/image.hpp"
+#include "../codes/bits.hpp"
+#include "image.hpp"
 
 namespace tagbench {
 

@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "detect/homography.hpp"
+#include "homography.hpp"
 
 namespace tagbench {
 

@@ -19,9 +19,9 @@
 #include <span>
 #include <vector>
 
-#include "detect/boundaries.hpp"
-#include "detect/image.hpp"
-#include "detect/quad_search.hpp"
+#include "boundaries.hpp"
+#include "image.hpp"
+#include "quad_search.hpp"
 
 namespace tagbench {
 

@@ -14,8 +14,8 @@
 // upright). Which corner really is the printed top-left is decided by the decoder's rotation.
 #include <vector>
 
-#include "detect/homography.hpp"
-#include "detect/line_fit.hpp"
+#include "homography.hpp"
+#include "line_fit.hpp"
 
 namespace tagbench {
 

@@ -33,7 +33,7 @@
 #include <span>
 #include <vector>
 
-#include "detect/gradient.hpp"
+#include "gradient.hpp"
 
 namespace tagbench {
 

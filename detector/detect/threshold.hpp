@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "detect/image.hpp"
+#include "image.hpp"
 
 namespace tagbench {
 

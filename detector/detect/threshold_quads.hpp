@@ -8,13 +8,13 @@
 // perimeter), ready for tag_homography + read_payload like the paper's quads.
 #include <vector>
 
-#include "detect/boundaries.hpp"
-#include "detect/components.hpp"
-#include "detect/edge_refine.hpp"
-#include "detect/image.hpp"
-#include "detect/quad_fit.hpp"
-#include "detect/quad_search.hpp"
-#include "detect/threshold.hpp"
+#include "boundaries.hpp"
+#include "components.hpp"
+#include "edge_refine.hpp"
+#include "image.hpp"
+#include "quad_fit.hpp"
+#include "quad_search.hpp"
+#include "threshold.hpp"
 
 namespace tagbench {
 
