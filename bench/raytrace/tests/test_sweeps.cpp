@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -599,4 +600,51 @@ TEST(SweepRun, SmallConditionsSweepZeroStrengthEqualsThePlainFramesAndTheTruthFo
       EXPECT_LT(best, 0.2 * f.truth.black_square_px);
     }
   }
+}
+
+// Issue 17: the paper profile reproduces the paper detector's rows from before the profiles existed
+// (data/paper_profile_distance.csv: 7b2c08a's `raytrace distance --trials 50`, trials 0-1 at 3, 25
+// and 30 m) byte for byte in every column but the timing and the detector's new name.
+TEST(SweepRun, PaperProfileReproducesThePaperDetectorsRowsByteForByte) {
+  REQUIRE_POVRAY();
+  SweepSettings s = settings(Experiment::kDistance, 2, {3, 25, 30});
+  s.detectors = {"tagbench-paper", "tagbench-paper-half"};
+  const SweepResult r = run_sweep(resolve_settings(s), options());
+  ASSERT_TRUE(r.failed.empty());
+  std::ifstream in(std::string(TAGBENCH_SOURCE_DIR) + "/bench/raytrace/tests/data/paper_profile_distance.csv");
+  ASSERT_TRUE(in) << "fixture missing";
+  std::vector<std::string> want;
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty() && l[0] != '#') want.push_back(l);
+  const auto got = lines(rows_csv(r));
+  const auto want_head = fields(want.at(0)), got_head = fields(got.at(0));
+  std::map<std::string, std::size_t> col;
+  for (std::size_t i = 0; i < got_head.size(); ++i) col[got_head[i]] = i;
+  const std::map<std::string, std::string> renamed = {{"tagbench-full", "tagbench-paper"},
+                                                      {"tagbench-half", "tagbench-paper-half"}};
+  ASSERT_EQ(got.size(), want.size());
+  std::size_t compared = 0;
+  for (std::size_t k = 1; k < want.size(); ++k) {
+    const auto w = fields(want[k]);
+    const auto key = [&](const std::vector<std::string>& f, const std::vector<std::string>& head) {
+      std::map<std::string, std::string> m;
+      for (std::size_t i = 0; i < head.size() && i < f.size(); ++i) m[head[i]] = f[i];
+      return m;
+    };
+    auto wm = key(w, want_head);
+    wm["detector"] = renamed.at(wm["detector"]);
+    bool found = false;
+    for (std::size_t j = 1; j < got.size(); ++j) {
+      const auto gm = key(fields(got[j]), got_head);
+      if (gm.at("step") != wm["step"] || gm.at("trial") != wm["trial"] || gm.at("detector") != wm["detector"]) continue;
+      found = true;
+      for (const auto& [name, value] : wm)
+        if (name != "ms") {
+          EXPECT_EQ(gm.at(name), value) << name << " of " << want[k];
+        }
+      ++compared;
+    }
+    EXPECT_TRUE(found) << want[k];
+  }
+  EXPECT_EQ(compared, want.size() - 1);
 }
