@@ -10,6 +10,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from readme_common import rows, table  # noqa: E402
 from readme_raytrace import _detectors, raytrace_conditions, raytrace_external_claims, raytrace_summary  # noqa: E402,F401
 from readme_speed import loss_distance, loss_realistic, speed, speed_stages  # noqa: E402
+from readme_targets import issue17_targets  # noqa: E402
 
 
 
@@ -271,7 +272,7 @@ def realistic_table(d):
 
 
 BLOCKS = {"pending": pending, "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
-          "loss_realistic": loss_realistic, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
+          "loss_realistic": loss_realistic, "issue17_targets": issue17_targets, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
           "raytrace_external_claims": raytrace_external_claims,
           "raytrace_conditions": raytrace_conditions, "fig6_table": fig6_table, "fig7_table": fig7_table,
