@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from readme_common import rows, table  # noqa: E402
-from readme_raytrace import _detectors, raytrace_conditions, raytrace_external_claims, raytrace_summary  # noqa: E402,F401
+from readme_raytrace import RT_NAMES, _detectors, raytrace_conditions, raytrace_external_claims, raytrace_summary  # noqa: E402,F401
 from readme_speed import loss_distance, loss_realistic, speed, speed_stages  # noqa: E402
 from readme_targets import issue17_targets  # noqa: E402
 
