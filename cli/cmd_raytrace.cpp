@@ -98,26 +98,6 @@ Plots: /usr/bin/python3 scripts/plot_raytrace.py DIR. A frame that fails to rend
 stderr and left out; the run goes on.
 )";
 
-std::vector<std::string> split_list(const std::string& option, const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (const char c : s + ",") {
-    if (c == ',') {
-      if (cur.empty()) throw UsageError(option + ": empty item in '" + s + "'");
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  return out;
-}
-
-std::vector<double> number_list(const std::string& option, const std::string& s) {
-  std::vector<double> v;
-  for (const auto& item : split_list(option, s)) v.push_back(parse_double(option, item, -1e300, 1e300));
-  return v;
-}
 
 }  // namespace
 
@@ -127,56 +107,16 @@ int cmd_raytrace(const Words& w) {
                    {"distances"}, {"conditions"}, {"processes"}, {"cache"}, {"povray"}, {"out"}, {"external-timeout"}});
   if (a.positionals().empty()) throw UsageError("which experiment? angle, distance or conditions");
   if (a.positionals().size() > 1) throw UsageError("unexpected argument '" + a.positionals()[1] + "'");
-  SweepSettings s;
-  try {
-    s.experiment = parse_experiment(a.positionals()[0]);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
-  const std::string exp = experiment_name(s.experiment);
-  s.trials = static_cast<int>(a.get_int("trials", 5, -1000000000, 1000000000));
-  if (a.has("tag-size")) s.tag_size = parse_double("--tag-size", *a.get("tag-size"), -1e300, 1e300);
-  if (a.has("seed")) s.seed = static_cast<std::uint64_t>(parse_int("--seed", *a.get("seed"), 0, (1LL << 62)));
+  SweepSettings base;
   if (a.has("detectors"))
-    parse_detector_list("--detectors", *a.get("detectors"), a.get_double("external-timeout", 1800, 1e-3, 1e9), s);
+    parse_detector_list("--detectors", *a.get("detectors"), a.get_double("external-timeout", 1800, 1e-3, 1e9), base);
   else if (a.has("external-timeout"))
     throw UsageError("--external-timeout: no external detector (--detectors ...,external:NAME=COMMAND)");
-  if (a.has("family")) s.family = *a.get("family");
-  if (a.has("distance")) {
-    if (s.experiment == Experiment::kDistance) throw UsageError("--distance: the distance sweep takes --distances");
-    s.distance = parse_double("--distance", *a.get("distance"), -1e300, 1e300);
-  }
-  if (a.has("angles")) {
-    if (s.experiment != Experiment::kAngle) throw UsageError("--angles belongs to the angle sweep");
-    s.steps = number_list("--angles", *a.get("angles"));
-  }
-  if (a.has("distances")) {
-    if (s.experiment != Experiment::kDistance) throw UsageError("--distances belongs to the distance sweep");
-    s.steps = number_list("--distances", *a.get("distances"));
-  }
-  try {
-    if (a.has("conditions")) {
-      if (s.experiment != Experiment::kConditions) throw UsageError("--conditions belongs to the conditions sweep");
-      for (const auto& c : split_list("--conditions", *a.get("conditions"))) s.conditions.push_back(parse_condition(c));
-    }
-    if (a.has("scene")) s.scene = parse_scene(*a.get("scene"));
-    s = resolve_settings(s);
-    plan_sweep(s);  // a tag that does not fit is refused before anything is rendered or written
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
+  const SweepSettings s = parse_sweep_settings(a.positionals()[0], a, std::move(base));
+  const std::string exp = experiment_name(s.experiment);
   const RenderOptions ro = render_options(a);
   const std::filesystem::path out = a.get_or("out", "results");
-  // Refused before any rendering: an --out that is, or would lie under, something other than a folder.
-  for (std::filesystem::path p = out; !p.empty(); p = p.parent_path()) {
-    std::error_code ec;
-    if (std::filesystem::exists(p, ec)) {
-      if (!std::filesystem::is_directory(p, ec))
-        throw UsageError("--out " + out.string() + ": " + (p == out ? "" : p.string() + " is ") + "not a directory");
-      break;
-    }
-    if (p == p.parent_path()) break;
-  }
+  check_out_folder("--out", out.string());  // before any rendering
 
   const SweepResult r = run_sweep_with_progress(s, ro, "tagbench raytrace", "raytrace " + exp);
 

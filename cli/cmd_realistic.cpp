@@ -9,6 +9,7 @@
 
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
+#include "cli/sweep_args.hpp"
 #include "realistic/realistic_run.hpp"
 #include "tools/atomic_file.hpp"
 #include "tools/progress.hpp"
@@ -68,35 +69,6 @@ Writes into DIR:
 Plot: /usr/bin/python3 scripts/plot_realistic.py DIR.
 )";
 
-std::vector<std::string> split_list(const std::string& option, const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (const char c : s + ",") {
-    if (c == ',') {
-      if (cur.empty()) throw UsageError(option + ": empty item in '" + s + "'");
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  return out;
-}
-
-// Refuses a path that is, or would lie under, something other than a folder.
-void check_folder(const char* option, const std::filesystem::path& dir) {
-  for (std::filesystem::path p = dir; !p.empty(); p = p.parent_path()) {
-    std::error_code ec;
-    if (std::filesystem::exists(p, ec)) {
-      if (!std::filesystem::is_directory(p, ec))
-        throw UsageError(std::string(option) + " " + dir.string() + ": " + (p == dir ? "" : p.string() + " is ") +
-                         "not a directory");
-      break;
-    }
-    if (p == p.parent_path()) break;
-  }
-}
-
 std::string frame_name(int index, const char* ext) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "frame-%05d.%s", index, ext);
@@ -114,12 +86,12 @@ int cmd_realistic(const Words& w) {
   s.frames = static_cast<int>(a.get_int("frames", 50, 1, 1000000));
   if (a.has("seed")) s.set.seed = static_cast<std::uint64_t>(parse_int("--seed", *a.get("seed"), 0, (1LL << 62)));
   if (a.has("family")) s.set.family = *a.get("family");
-  if (a.has("detectors")) s.detectors = split_list("--detectors", *a.get("detectors"));
+  if (a.has("detectors")) s.detectors = split_items("--detectors", *a.get("detectors"));
   s.set.degrade = !a.flag("ideal");
   const auto range = [&](const char* name, bench::Range& r) {
     if (!a.has(name)) return;
     const std::string opt = std::string("--") + name;
-    const auto items = split_list(opt, *a.get(name));
+    const auto items = split_items(opt, *a.get(name));
     if (items.size() != 2) throw UsageError(opt + ": want LO,HI (got '" + *a.get(name) + "')");
     r = {parse_double(opt, items[0], -1e300, 1e300), parse_double(opt, items[1], -1e300, 1e300)};
   };
@@ -139,11 +111,11 @@ int cmd_realistic(const Words& w) {
     throw UsageError(std::string("--family: ") + e.what());
   }
   const std::filesystem::path out = a.get_or("out", "results");
-  check_folder("--out", out);
+  check_out_folder("--out", out.string());
   std::optional<std::filesystem::path> export_dir;
   if (a.has("export-frames")) {
     export_dir = *a.get("export-frames");
-    check_folder("--export-frames", *export_dir);
+    check_out_folder("--export-frames", export_dir->string());
     std::filesystem::create_directories(*export_dir);
     remove_stale_temporaries(*export_dir);
   }

@@ -38,8 +38,12 @@ std::vector<double> number_list(const std::string& option, const std::string& s)
 }  // namespace
 
 SweepSettings parse_sweep_settings(const std::string& name, const Args& a, const std::vector<std::string>& detectors) {
-  SweepSettings s;
-  s.detectors = detectors;
+  SweepSettings base;
+  base.detectors = detectors;
+  return parse_sweep_settings(name, a, std::move(base));
+}
+
+SweepSettings parse_sweep_settings(const std::string& name, const Args& a, SweepSettings s) {
   try {
     s.experiment = parse_experiment(name);
   } catch (const std::invalid_argument& e) {

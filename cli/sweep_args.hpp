@@ -18,6 +18,9 @@ std::vector<OptionSpec> sweep_option_specs();
 // wrong, before anything is rendered or written. `detectors`: the comparators (empty: all five).
 bench::SweepSettings parse_sweep_settings(const std::string& name, const Args& a,
                                           const std::vector<std::string>& detectors = {});
+// The same over `base`, whose detectors and external detectors are kept (tagbench raytrace's
+// --detectors, parse_detector_list).
+bench::SweepSettings parse_sweep_settings(const std::string& name, const Args& a, bench::SweepSettings base);
 
 // "a,b,c" -> {"a", "b", "c"}; an empty item is a UsageError naming the option.
 std::vector<std::string> split_items(const std::string& option, const std::string& s);
