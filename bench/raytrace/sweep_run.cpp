@@ -32,22 +32,29 @@ DetectorSet make_detectors(const SweepSettings& s, std::optional<double> k1) {
 }
 
 SweepRow row_of(const DetectorOutput& out, const std::string& detector, std::size_t index, const SweepFrame& f) {
+  return score_frame(out.found, out.ms, detector, index, f);
+}
+
+}  // namespace
+
+SweepRow score_frame(std::span<const Found> found, double ms, const std::string& detector, std::size_t index,
+                     const SweepFrame& f, const Found** best_out) {
   SweepRow r;
   r.frame = index;
   r.detector = detector;
-  r.ms = out.ms;
+  r.ms = ms;
   r.orientation_error_deg = r.distance_error_m = r.distance_error_percent = r.corner_rms_px = kNaN;
   r.decision_margin = kNaN;
   const Found* best = nullptr;
   FoundErrors best_e;
-  for (const Found& found : out.found) {
-    if (found.id != f.frame.id || canonical_family_name(found.family) != canonical_family_name(f.frame.family)) {
+  for (const Found& x : found) {
+    if (x.id != f.frame.id || canonical_family_name(x.family) != canonical_family_name(f.frame.family)) {
       r.wrong_id = true;
       continue;
     }
-    const FoundErrors e = found_errors(found, f.truth);
+    const FoundErrors e = found_errors(x, f.truth);
     if (!best || e.corner_rms_px < best_e.corner_rms_px) {
-      best = &found;
+      best = &x;
       best_e = e;
     }
   }
@@ -59,10 +66,9 @@ SweepRow row_of(const DetectorOutput& out, const std::string& detector, std::siz
     r.distance_error_percent = best_e.distance_percent;
     r.decision_margin = best->decision_margin;
   }
+  if (best_out) *best_out = best;
   return r;
 }
-
-}  // namespace
 
 SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_options, const SweepProgress& progress) {
   SweepResult res;

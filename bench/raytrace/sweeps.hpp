@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -161,6 +162,12 @@ struct SweepProgress {
 // std::runtime_error. Invalid settings: std::invalid_argument; povray missing: std::runtime_error
 // "povray not found: install the Debian package povray".
 SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_options, const SweepProgress& progress = {});
+
+// How a frame is scored (the sweeps and tagbench score): a detection of another id (or family) marks
+// a wrong id; of the right-id detections the one nearest the truth (corner RMS) gives the errors and
+// is returned through `best` (nullptr when none). The loss columns are left empty.
+SweepRow score_frame(std::span<const Found> found, double ms, const std::string& detector, std::size_t index,
+                     const SweepFrame& frame, const Found** best = nullptr);
 
 // Per (condition, step, detector): the summary. Percentiles are over the frames detected with
 // the right id (linear interpolation between order statistics, numpy's default); NaN when none.

@@ -15,40 +15,13 @@ namespace tagbench::bench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// As the sweeps score a frame: a detection of another id (or family) marks a wrong id; of the right-id
-// detections the one nearest the truth (corner RMS) gives the errors.
-SweepRow score_frame(const std::vector<Found>& found, double ms, const std::string& detector, std::size_t index,
-                     const SweepFrame& f, std::vector<std::pair<Found, const SweepFrame*>>& matched) {
-  SweepRow r;
-  r.frame = index;
-  r.detector = detector;
-  r.ms = ms;
-  r.orientation_error_deg = r.distance_error_m = r.distance_error_percent = r.corner_rms_px = kNaN;
-  r.decision_margin = kNaN;
+// As the sweeps score a frame (score_frame, sweeps.hpp), keeping the matched detection.
+SweepRow score_and_match(const std::vector<Found>& found, double ms, const std::string& detector, std::size_t index,
+                         const SweepFrame& f, std::vector<std::pair<Found, const SweepFrame*>>& matched) {
   const Found* best = nullptr;
-  FoundErrors best_e;
-  for (const Found& x : found) {
-    if (x.id != f.frame.id || canonical_family_name(x.family) != canonical_family_name(f.frame.family)) {
-      r.wrong_id = true;
-      continue;
-    }
-    const FoundErrors e = found_errors(x, f.truth);
-    if (!best || e.corner_rms_px < best_e.corner_rms_px) {
-      best = &x;
-      best_e = e;
-    }
-  }
-  if (best) {
-    r.detected_right_id = true;
-    r.corner_rms_px = best_e.corner_rms_px;
-    r.orientation_error_deg = best_e.orientation_deg;
-    r.distance_error_m = best_e.distance_m;
-    r.distance_error_percent = best_e.distance_percent;
-    r.decision_margin = best->decision_margin;
-    matched.emplace_back(*best, &f);
-  }
+  SweepRow r = bench::score_frame(found, ms, detector, index, f, &best);
+  if (best) matched.emplace_back(*best, &f);
   return r;
 }
 
@@ -186,7 +159,7 @@ ScoreResult score_detections(const Dataset& dataset, const std::filesystem::path
   for (std::size_t i = 0; i < dataset.frames.size(); ++i) {
     std::vector<Found> ours;
     for (const Found& f : of_frame[i]->found) ours.push_back(to_ours(f, convention));
-    r.sweep.rows.push_back(score_frame(ours, of_frame[i]->ms, name, i, r.sweep.frames[i], matched));
+    r.sweep.rows.push_back(score_and_match(ours, of_frame[i]->ms, name, i, r.sweep.frames[i], matched));
   }
   r.sweep.distinct_frames = dataset.frames.size();
   r.hint = convention_hint(matched, convention, name);
