@@ -9,6 +9,7 @@
 #include "detect/decode_quads.hpp"
 #include "detect/estimate_poses.hpp"
 #include "detect/find_quads_in_image.hpp"
+#include "detect/stage_clock.hpp"
 #include "detect/find_threshold_quads_in_image.hpp"
 #include "detect/suppress_duplicates.hpp"
 #include "detect/workspace_impl.hpp"
@@ -107,13 +108,8 @@ std::vector<Detection> Detector::detect(const ImageF& gray, DetectorWorkspace& w
 
 std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& workspace, DetectorTrace* trace,
                                      StageTimings* timings) const {
-  using Clock = std::chrono::steady_clock;
-  const auto ms_since = [](Clock::time_point& t) {
-    const auto now = Clock::now();
-    const double ms = std::chrono::duration<double, std::milli>(now - t).count();
-    t = now;
-    return ms;
-  };
+  using Clock = detail::StageClock;
+  const auto ms_since = detail::lap_ms;
   StageTimings tm;
   const auto t_start = Clock::now();
 

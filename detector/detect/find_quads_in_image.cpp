@@ -2,25 +2,16 @@
 
 #include <algorithm>
 
-#include <chrono>
 
 #include "detect/blur.hpp"
+#include "detect/stage_clock.hpp"
 #include "detect/gradient.hpp"
 #include "detect/segmentation.hpp"
 #include "detect/workspace_impl.hpp"
 
 namespace tagbench {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point& t) {
-  const auto now = Clock::now();
-  const double ms = std::chrono::duration<double, std::milli>(now - t).count();
-  t = now;
-  return ms;
-}
-
-}  // namespace
+using detail::lap_ms;
+using Clock = detail::StageClock;
 
 FoundQuads find_quads_in_image(const ImageF& gray, const DetectorOptions& opt, DetectorWorkspace& workspace,
                                StageTimings* timings, DetectorTrace* trace) {
@@ -37,21 +28,21 @@ FoundQuads find_quads_in_image(const ImageF& gray, const DetectorOptions& opt, D
     gaussian_blur(gray, opt.seg_sigma, ws.blur_tmp, ws.seg_in);
   if (opt.decode_sigma > 0) gaussian_blur(gray, opt.decode_sigma, ws.blur_tmp, ws.dec_in);
   out.decode_image = opt.decode_sigma > 0 ? &ws.dec_in : &gray;
-  tm.blur = ms_since(t);
+  tm.blur = lap_ms(t);
 
   // 2. Gradients; 3. clusters; 4. segments.
   compute_gradients(ws.seg_in, opt.segmentation.min_mag, ws.gradients);
-  tm.gradient = ms_since(t);
+  tm.gradient = lap_ms(t);
   segment_clusters(ws.gradients, opt.segmentation, ws.seg, ws.clusters);
-  tm.segmentation = ms_since(t);
+  tm.segmentation = lap_ms(t);
   out.segments = fit_segments(ws.clusters, opt.line_fit);
   if (halve)
     for (auto& s : out.segments) s = segment_full_from_half(s);
-  tm.line_fit = ms_since(t);
+  tm.line_fit = lap_ms(t);
 
   // 5. Quads.
   out.quads = find_quads(out.segments, opt.quad_search);
-  tm.quads = ms_since(t);
+  tm.quads = lap_ms(t);
 
   if (timings) {
     timings->blur = tm.blur;

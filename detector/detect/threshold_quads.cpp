@@ -1,22 +1,13 @@
 #include "detect/threshold_quads.hpp"
 
 #include <algorithm>
-#include <chrono>
 
 #include "detect/blur.hpp"
+#include "detect/stage_clock.hpp"
 
 namespace tagbench {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double lap(Clock::time_point& t) {
-  const auto now = Clock::now();
-  const double ms = std::chrono::duration<double, std::milli>(now - t).count();
-  t = now;
-  return ms;
-}
-
-}  // namespace
+using detail::lap_ms;
+using Clock = detail::StageClock;
 
 void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, ThresholdQuadWorkspace& ws,
                           std::vector<Quad>& out, ThresholdQuadStats* stats) {
@@ -26,17 +17,17 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   const bool halve = opt.halve && img.width >= 4 && img.height >= 4;
   if (halve) half_resolution(img, ws.half);
   const ImageF& in = halve ? ws.half : img;
-  st.ms_halve = lap(t);
+  st.ms_halve = lap_ms(t);
   if (opt.blur_sigma > 0) gaussian_blur(in, opt.blur_sigma, ws.blur_tmp, ws.blurred);
   const ImageF& th_in = opt.blur_sigma > 0 ? ws.blurred : in;
-  st.ms_blur = lap(t);
+  st.ms_blur = lap_ms(t);
 
   adaptive_threshold(th_in, opt.threshold, ws.threshold, ws.ternary);
-  st.ms_threshold = lap(t);
+  st.ms_threshold = lap_ms(t);
   connected_components(ws.ternary, ws.component_scratch, ws.components);
-  st.ms_components = lap(t);
+  st.ms_components = lap_ms(t);
   group_boundaries(ws.ternary, ws.components, opt.boundaries, ws.boundary_scratch, ws.groups);
-  st.ms_boundaries = lap(t);
+  st.ms_boundaries = lap_ms(t);
 
   QuadFitOptions fit = opt.fit;
   if (halve) fit.min_tag_width = std::max(3.0, fit.min_tag_width / 2);
@@ -46,7 +37,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
       for (auto& c : q.corners) c = Eigen::Vector2d(full_from_half(c.x()), full_from_half(c.y()));
       q.observed_perimeter *= 2;
     }
-  st.ms_fit = lap(t);
+  st.ms_fit = lap_ms(t);
 
   if (opt.refine_edges) {
     EdgeRefineOptions r = opt.refine;
@@ -54,7 +45,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
     for (Quad& q : out)
       if (const auto c = refine_quad_edges(img, q.corners, r)) q.corners = *c;
   }
-  st.ms_refine = lap(t);
+  st.ms_refine = lap_ms(t);
   st.components = ws.components.count;
   st.groups = ws.groups.count();
   st.boundary_points = ws.groups.points.size();
