@@ -21,6 +21,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "tools/json_read.hpp"
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
@@ -56,7 +57,8 @@ Result run(const std::string& args) { return tagbench::testing::run_tagbench(arg
 
 int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
-// ---- a minimal JSON reader (also checks that the output is valid JSON) -------------------------
+// ---- JSON: the project's reader (tools/json_read), which also checks that the output is valid JSON,
+// seen through a small tree with [] access for terse assertions -----------------------------------
 
 struct Json {
   enum Type { kNull, kBool, kNum, kStr, kArr, kObj } type = kNull;
@@ -84,137 +86,27 @@ struct Json {
   std::size_t size() const { return type == kArr ? arr.size() : obj.size(); }
 };
 
-class JsonParser {
- public:
-  explicit JsonParser(const std::string& s) : s_(s) {}
-  Json parse() {
-    Json v = value();
-    ws();
-    if (i_ != s_.size()) fail("trailing text");
-    return v;
+Json tree(const tagbench::JsonValue& v) {
+  using K = tagbench::JsonValue::Kind;
+  Json j;
+  switch (v.kind()) {
+    case K::kNull: break;
+    case K::kBool: j.type = Json::kBool, j.b = v.boolean("value"); break;
+    case K::kNumber: j.type = Json::kNum, j.num = v.number("value"); break;
+    case K::kString: j.type = Json::kStr, j.str = v.string("value"); break;
+    case K::kArray:
+      j.type = Json::kArr;
+      for (const auto& e : v.array("value")) j.arr.push_back(tree(e));
+      break;
+    case K::kObject:
+      j.type = Json::kObj;
+      for (const auto& [k, e] : v.members("value")) j.obj.emplace_back(k, tree(e));
+      break;
   }
+  return j;
+}
 
- private:
-  [[noreturn]] void fail(const std::string& what) {
-    throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
-  }
-  void ws() {
-    while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\n' || s_[i_] == '\t' || s_[i_] == '\r')) ++i_;
-  }
-  bool lit(const char* w) {
-    const std::string t(w);
-    if (s_.compare(i_, t.size(), t) != 0) return false;
-    i_ += t.size();
-    return true;
-  }
-  static void utf8(std::string& out, unsigned cp) {
-    if (cp < 0x80) {
-      out += static_cast<char>(cp);
-    } else if (cp < 0x800) {
-      out += static_cast<char>(0xc0 | (cp >> 6));
-      out += static_cast<char>(0x80 | (cp & 0x3f));
-    } else if (cp < 0x10000) {
-      out += static_cast<char>(0xe0 | (cp >> 12));
-      out += static_cast<char>(0x80 | ((cp >> 6) & 0x3f));
-      out += static_cast<char>(0x80 | (cp & 0x3f));
-    } else {
-      out += static_cast<char>(0xf0 | (cp >> 18));
-      out += static_cast<char>(0x80 | ((cp >> 12) & 0x3f));
-      out += static_cast<char>(0x80 | ((cp >> 6) & 0x3f));
-      out += static_cast<char>(0x80 | (cp & 0x3f));
-    }
-  }
-  std::string string() {
-    if (s_[i_] != '"') fail("expected string");
-    ++i_;
-    std::string out;
-    while (true) {
-      if (i_ >= s_.size()) fail("unterminated string");
-      const char c = s_[i_++];
-      if (c == '"') return out;
-      if (static_cast<unsigned char>(c) < 0x20) fail("raw control character in string");
-      if (c != '\\') {
-        out += c;
-        continue;
-      }
-      if (i_ >= s_.size()) fail("bad escape");
-      const char e = s_[i_++];
-      switch (e) {
-        case '"': out += '"'; break;
-        case '\\': out += '\\'; break;
-        case '/': out += '/'; break;
-        case 'b': out += '\b'; break;
-        case 'f': out += '\f'; break;
-        case 'n': out += '\n'; break;
-        case 'r': out += '\r'; break;
-        case 't': out += '\t'; break;
-        case 'u': {
-          if (i_ + 4 > s_.size()) fail("bad \\u");
-          const unsigned cp = static_cast<unsigned>(std::stoul(s_.substr(i_, 4), nullptr, 16));
-          i_ += 4;
-          utf8(out, cp);
-          break;
-        }
-        default: fail("bad escape");
-      }
-    }
-  }
-  Json value() {
-    ws();
-    if (i_ >= s_.size()) fail("unexpected end");
-    Json v;
-    const char c = s_[i_];
-    if (c == '{') {
-      v.type = Json::kObj;
-      ++i_;
-      ws();
-      if (s_[i_] == '}') return ++i_, v;
-      while (true) {
-        ws();
-        std::string k = string();
-        ws();
-        if (s_[i_++] != ':') fail("expected ':'");
-        v.obj.emplace_back(std::move(k), value());
-        ws();
-        const char d = s_[i_++];
-        if (d == '}') return v;
-        if (d != ',') fail("expected ',' or '}'");
-      }
-    }
-    if (c == '[') {
-      v.type = Json::kArr;
-      ++i_;
-      ws();
-      if (s_[i_] == ']') return ++i_, v;
-      while (true) {
-        v.arr.push_back(value());
-        ws();
-        const char d = s_[i_++];
-        if (d == ']') return v;
-        if (d != ',') fail("expected ',' or ']'");
-      }
-    }
-    if (c == '"') {
-      v.type = Json::kStr;
-      v.str = string();
-      return v;
-    }
-    if (lit("null")) return v;
-    if (lit("true")) return v.type = Json::kBool, v.b = true, v;
-    if (lit("false")) return v.type = Json::kBool, v;
-    const std::size_t start = i_;
-    while (i_ < s_.size() && std::string("+-0123456789.eE").find(s_[i_]) != std::string::npos) ++i_;
-    if (start == i_) fail("unexpected character");
-    v.type = Json::kNum;
-    v.num = std::stod(s_.substr(start, i_ - start));
-    return v;
-  }
-
-  const std::string& s_;
-  std::size_t i_ = 0;
-};
-
-Json parse_json(const std::string& s) { return JsonParser(s).parse(); }
+Json parse_json(const std::string& s) { return tree(tagbench::parse_json(s)); }
 
 // ---- CSV ---------------------------------------------------------------------------------------
 
