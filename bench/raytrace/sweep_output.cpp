@@ -28,8 +28,12 @@ constexpr const char* kSixdofHeader = ",halton_index,k1,k2,p1,p2,k3,defocus_sigm
 
 std::string sixdof_cells(const SweepFrame& f) {
   const CameraEffects c = f.effect.camera.value_or(CameraEffects{});
-  std::string o = "," + std::to_string(f.sample);
-  for (const double k : c.distortion) o += "," + format_cell(k, "%.10g");
+  std::string o = ",";
+  o += std::to_string(f.sample);
+  for (const double k : c.distortion) {
+    o += ',';
+    o += format_cell(k, "%.10g");
+  }
   return o + "," + format_cell(c.defocus_sigma_px, "%.6f") + "," + format_cell(c.noise_sigma, "%.6f") + "," +
          std::to_string(c.quantization_bits);
 }

@@ -123,11 +123,11 @@ struct CameraEffects {
 };
 
 struct ImageEffect {
-  std::optional<CameraEffects> camera;  // sixdof; then condition is kNone
   Condition condition = Condition::kNone;
   double strength = 0;
   std::uint64_t seed = 0;      // noise
   double direction_deg = 0;    // gradient: the direction in the image in which the light falls off
+  std::optional<CameraEffects> camera;  // sixdof (then condition is kNone)
 };
 
 struct SweepFrame {
