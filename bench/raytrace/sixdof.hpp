@@ -24,5 +24,9 @@ cv::Mat apply_camera_effects(const cv::Mat& gray8, const CameraEffects& e);
 
 // One line on the sweep's sampling and camera, for the sidecars.
 std::string sixdof_description();
+// The sixdof settings as the sidecars write them (what scripts/plot_sixdof.py reads): {"frames",
+// "distance_range_m", "phi_max_deg", "lens", "defocus_max_px", "noise_max", "quantization_bits",
+// "margin_px", "bins", "variables": [{"name", "lo", "hi"}]}.
+std::string sixdof_settings_json(const SweepSettings& resolved);
 
 }  // namespace tagbench::bench

@@ -163,20 +163,7 @@ std::string sidecar_json(const SweepResult& r) {
                    "the in-plane rotation (uniform in [0, 360) degrees), the image position (uniform in a disc of "
                    "position_radius_px about the principal point), and for conditions phi and the gradient's "
                    "direction; the same draws at every step");
-  if (sixdof) {
-    const SixdofSettings& x = s.sixdof;
-    j += ",\n    \"sixdof\": {\"frames\": " + std::to_string(s.trials) + ", \"distance_range_m\": " +
-         json_numbers({x.distance_min, x.distance_max}) + ", \"phi_max_deg\": " + json_number(x.phi_max_deg) +
-         ", \"lens\": " + json_numbers({x.distortion.begin(), x.distortion.end()}) +
-         ", \"defocus_max_px\": " + json_number(x.defocus_max_px) + ", \"noise_max\": " + json_number(x.noise_max) +
-         ", \"quantization_bits\": 8, \"margin_px\": " + json_number(x.margin_px) +
-         ", \"bins\": " + std::to_string(x.bins) + ",\n      \"variables\": [";
-    const auto vars = sixdof_variables(s);
-    for (std::size_t i = 0; i < vars.size(); ++i)
-      j += std::string(i ? ", " : "") + "{\"name\": " + json_string(vars[i].name) + ", \"lo\": " + json_number(vars[i].lo) +
-           ", \"hi\": " + json_number(vars[i].hi) + "}";
-    j += "]}";
-  }
+  if (sixdof) j += ",\n    \"sixdof\": " + sixdof_settings_json(s);
   j += "},\n";
   j += "  \"camera\": {\"width\": " + std::to_string(kRenderWidth) + ", \"height\": " + std::to_string(kRenderHeight) +
        ", \"fx\": " + json_number(K.fx) + ", \"fy\": " + json_number(K.fy) + ", \"cx\": " + json_number(K.cx) +

@@ -7,6 +7,7 @@
 #include "raytrace/sixdof.hpp"
 #include "raytrace/sweep_detail.hpp"
 #include "tools/format.hpp"
+#include "tools/json.hpp"
 
 namespace tagbench::bench {
 
@@ -55,6 +56,21 @@ std::string sixdof_description() {
          "camera: the pinhole render remapped through OpenCV's lens model (cv::undistortPoints of every "
          "pixel, bilinear), Gaussian defocus, Gaussian sensor noise, rounded to 8 bits; truth corners: "
          "cv::projectPoints with the lens";
+}
+
+std::string sixdof_settings_json(const SweepSettings& s) {
+  const SixdofSettings& x = s.sixdof;
+  std::string j = "{\"frames\": " + std::to_string(s.trials) + ", \"distance_range_m\": " +
+                  json_numbers({x.distance_min, x.distance_max}) + ", \"phi_max_deg\": " + json_number(x.phi_max_deg) +
+                  ", \"lens\": " + json_numbers({x.distortion.begin(), x.distortion.end()}) +
+                  ", \"defocus_max_px\": " + json_number(x.defocus_max_px) + ", \"noise_max\": " +
+                  json_number(x.noise_max) + ", \"quantization_bits\": 8, \"margin_px\": " + json_number(x.margin_px) +
+                  ", \"bins\": " + std::to_string(x.bins) + ",\n      \"variables\": [";
+  const auto vars = sixdof_variables(s);
+  for (std::size_t i = 0; i < vars.size(); ++i)
+    j += std::string(i ? ", " : "") + "{\"name\": " + json_string(vars[i].name) + ", \"lo\": " +
+         json_number(vars[i].lo) + ", \"hi\": " + json_number(vars[i].hi) + "}";
+  return j + "]}";
 }
 
 std::vector<SweepFrame> plan_sixdof(const SweepSettings& s) {

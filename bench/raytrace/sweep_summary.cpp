@@ -68,27 +68,27 @@ std::vector<SummaryRow> summarize(const SweepResult& r) {
   for (const SweepRow& row : r.rows) {
     const SweepFrame& f = r.frames[row.frame];
     for (Group& g : groups_of(f, row.detector)) {
-    auto it = index.find(g.key);
-    if (it == index.end()) {
-      it = index.emplace(g.key, groups.size()).first;
-      Acc a;
-      a.row = std::move(g.row);
-      for (std::size_t k = 0; k < r.settings.detectors.size() && k < r.can_explain.size(); ++k)
-        if (r.settings.detectors[k] == row.detector) a.row.lost.explains = r.can_explain[k];
-      groups.push_back(std::move(a));
-    }
-    Acc& a = groups[it->second];
-    ++a.row.frames;
-    a.px.push_back(f.truth.black_square_px);
-    a.ms.push_back(row.ms);
-    if (row.wrong_id) ++a.row.wrong_id_frames;
-    a.row.lost.add(row.loss);
-    if (!row.detected_right_id) continue;
-    ++a.row.detected;
-    a.o.push_back(row.orientation_error_deg);
-    a.dm.push_back(row.distance_error_m);
-    a.dp.push_back(row.distance_error_percent);
-    a.c.push_back(row.corner_rms_px);
+      auto it = index.find(g.key);
+      if (it == index.end()) {
+        it = index.emplace(g.key, groups.size()).first;
+        Acc a;
+        a.row = std::move(g.row);
+        for (std::size_t k = 0; k < r.settings.detectors.size() && k < r.can_explain.size(); ++k)
+          if (r.settings.detectors[k] == row.detector) a.row.lost.explains = r.can_explain[k];
+        groups.push_back(std::move(a));
+      }
+      Acc& a = groups[it->second];
+      ++a.row.frames;
+      a.px.push_back(f.truth.black_square_px);
+      a.ms.push_back(row.ms);
+      if (row.wrong_id) ++a.row.wrong_id_frames;
+      a.row.lost.add(row.loss);
+      if (!row.detected_right_id) continue;
+      ++a.row.detected;
+      a.o.push_back(row.orientation_error_deg);
+      a.dm.push_back(row.distance_error_m);
+      a.dp.push_back(row.distance_error_percent);
+      a.c.push_back(row.corner_rms_px);
     }
   }
   if (sixdof)  // variable (in sixdof_variables' order, "all" first), bin, then the detectors' order

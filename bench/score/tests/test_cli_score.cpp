@@ -78,6 +78,10 @@ void export_detect_score_equals_the_sweep(const std::string& options, const std:
     EXPECT_EQ(without_ms(slurp(out / (stem + ".csv"))), without_ms(want)) << name;
     EXPECT_TRUE(fs::exists(out / (stem + "_summary.csv")));
     EXPECT_NE(slurp(out / (stem + ".json")).find("\"tool\": \"tagbench score\""), std::string::npos);
+    if (stem == "sixdof") {  // the settings scripts/plot_sixdof.py reads
+      EXPECT_NE(slurp(out / "sixdof.json").find("\"sixdof\": {\"frames\": 4, \"distance_range_m\": [0.5, 3]"),
+                std::string::npos);
+    }
   }
 }
 
