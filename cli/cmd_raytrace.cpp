@@ -65,7 +65,9 @@ the frame's ground truth in our conventions.
                printed tag (white border included) is 2 px inside the image both in the pinhole render
                and through the lens, so close tags sit nearer the centre. The camera is closer to a real
                one: the 400 x 400, f = 400 px render remapped through OpenCV's lens model (--lens, default
-               k1,k2,p1,p2,k3 = -0.2,0.05,0.001,-0.0005,0; truth corners: cv::projectPoints with it),
+               k1,k2,p1,p2,k3 = -0.2,0.05,0.001,-0.0005,0; truth corners: cv::projectPoints with it;
+               a barrel lens sees past the render's edges, where the render's border is repeated:
+               unseen on the plain scene's uniform grey, visible in the realistic scene's corners),
                Gaussian defocus (sigma uniform in 0..--defocus-max, default 1.5 px), Gaussian sensor noise
                (sigma uniform in 0..--noise-max, default 4 levels, seeded) and 8-bit quantization, all
                recorded per row. Ours and aruco's pose get the lens; libapriltag (no distortion model in
