@@ -19,9 +19,11 @@ using namespace tagbench::bench;
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: tagbench dataset export angle|distance|conditions --out DIR [--trials N] [--tag-size M]
+constexpr const char* kHelp = R"(usage: tagbench dataset export angle|distance|conditions|sixdof --out DIR [--trials N] [--tag-size M]
            [--seed S] [--family F] [--scene plain|realistic] [--distance D] [--angles LIST] [--distances LIST]
            [--conditions LIST] [--processes P] [--cache DIR] [--povray PATH]
+           sixdof: [--frames N] [--distance-range A,B] [--phi-max DEG] [--lens K1,K2,P1,P2,K3] [--defocus-max PX]
+           [--noise-max LEVELS]
 
 Writes the frames of a ray-traced sweep (the same frames `tagbench raytrace` runs its detectors on, with
 the same options and defaults, its condition applied) as 8-bit gray PNG files, and one truth.json with
@@ -36,7 +38,10 @@ scored (`tagbench score DIR DETECTIONS`). Rendering shares the sweeps' frame cac
                          "frames": [{file, index, condition, strength, step, step_unit, trial, seed,
                                      family, id, tag_size_m, R [[3] x3], t [3], corners [[x,y] x4],
                                      black_square_px, distortion (this frame's lens, or null),
-                                     view {distance_m, phi_deg, tilt_axis_deg, roll_deg, image_x, image_y}}],
+                                     view {distance_m, phi_deg, tilt_axis_deg, roll_deg, image_x, image_y},
+                                     sixdof only: camera_effects {halton_index, image_x, image_y (the
+                                     centre in the distorted image), defocus_sigma_px, noise_sigma,
+                                     noise_seed, quantization_bits}}],
                          "failed": [{index, error}]}
 Conventions: pixel centres at integer coordinates; corners TL, TR, BR, BL of the printed black square;
 camera frame x right, y down, z forward; tag frame origin at the centre, x right, y down (as printed),
@@ -54,7 +59,7 @@ int export_dataset(const Words& w) {
   std::vector<OptionSpec> specs = sweep_option_specs();
   for (const char* o : {"processes", "cache", "povray", "out"}) specs.emplace_back(o);
   const Args a(w, specs);
-  if (a.positionals().empty()) throw UsageError("which experiment? angle, distance or conditions");
+  if (a.positionals().empty()) throw UsageError("which experiment? angle, distance, conditions or sixdof");
   if (a.positionals().size() > 1) throw UsageError("unexpected argument '" + a.positionals()[1] + "'");
   if (!a.has("out")) throw UsageError("--out DIR is required (where the dataset goes)");
   const SweepSettings s = parse_sweep_settings(a.positionals()[0], a, {comparator_names().front()});
@@ -84,7 +89,7 @@ int export_dataset(const Words& w) {
   return 0;
 }
 
-constexpr const char* kTopHelp = R"(usage: tagbench dataset export angle|distance|conditions --out DIR [options]
+constexpr const char* kTopHelp = R"(usage: tagbench dataset export angle|distance|conditions|sixdof --out DIR [options]
 
   export   a ray-traced sweep's frames (PNG) and their ground truth (truth.json) for any detector;
            run 'tagbench dataset export --help' for the options and the format

@@ -23,9 +23,11 @@ using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: tagbench raytrace angle|distance|conditions [--trials N] [--tag-size M] [--seed S]
+constexpr const char* kHelp = R"(usage: tagbench raytrace angle|distance|conditions|sixdof [--trials N] [--tag-size M] [--seed S]
            [--detectors LIST] [--family F] [--scene plain|realistic] [--distance D] [--angles LIST] [--distances LIST]
            [--conditions LIST] [--processes P] [--cache DIR] [--povray PATH] [--out DIR] [--external-timeout S]
+           sixdof: [--frames N] [--distance-range A,B] [--phi-max DEG] [--lens K1,K2,P1,P2,K3] [--defocus-max PX]
+           [--noise-max LEVELS] [--bins N]
 
 The localization experiments of the paper's section VI-B on ray-traced frames: POV-Ray 3.7, a pinhole
 camera of 400 x 400 pixels with f = 400 px as in the paper, a 36h11 tag (the family all five detectors
@@ -53,9 +55,28 @@ the frame's ground truth in our conventions.
                  distortion  barrel lens distortion, OpenCV's k1 = -0.05, -0.1, -0.2, -0.3 (remapped);
                              ours and aruco's pose get the coefficients, libapriltag (no distortion model
                              in its estimate_tag_pose) the pinhole intrinsics only
+  sixdof       Beyond the paper: the FMAC protocol's 6-DoF sweep (arXiv 2601.07723). --frames frames, each
+               a scrambled Halton point (bases 2, 3, 5, 7, 11, 13, 17, 19; the scramble, a random digit
+               permutation per dimension and digit position, is drawn from --seed) of all six pose
+               variables: distance (uniform in --distance-range, default 0.5,6 m: the 0.166 m black
+               square is 133 down to 11 px wide), phi (0..--phi-max, default 80 degrees), tilt axis and
+               roll (0..360), and the tag centre's image position x, y anywhere in the image; plus the
+               frame's defocus and noise. The rule for "in view": a point is skipped unless the whole
+               printed tag (white border included) is 2 px inside the image both in the pinhole render
+               and through the lens, so close tags sit nearer the centre. The camera is closer to a real
+               one: the 400 x 400, f = 400 px render remapped through OpenCV's lens model (--lens, default
+               k1,k2,p1,p2,k3 = -0.2,0.05,0.001,-0.0005,0; truth corners: cv::projectPoints with it;
+               a barrel lens sees past the render's edges, where the render's border is repeated:
+               unseen on the plain scene's uniform grey, visible in the realistic scene's corners),
+               Gaussian defocus (sigma uniform in 0..--defocus-max, default 1.5 px), Gaussian sensor noise
+               (sigma uniform in 0..--noise-max, default 4 levels, seeded) and 8-bit quantization, all
+               recorded per row. Ours and aruco's pose get the lens; libapriltag (no distortion model in
+               its estimate_tag_pose) the pinhole intrinsics only. The summary bins every variable
+               (--bins, default 10) and the plot shows each outcome against each pose variable
 
 Options:
   --trials N          frames per step or strength (default 5; make bench uses 50)
+  --frames N          sixdof: frames (default 100; make bench uses 1000)
   --tag-size M        edge of the black square, metres (default 0.166; 1 for distance)
   --seed S            seed of every random draw (default 1); each frame's seed is in its row
   --detectors LIST    comma-separated (default all seven): tagbench, tagbench-half (ours, default profile,
@@ -77,6 +98,12 @@ Options:
   --angles LIST       angle: phi values, degrees in [0, 90) (default 0,5,...,85)
   --distances LIST    distance: metres, > 0 (default 2,3,...,10,12.5,15,...,60)
   --conditions LIST   conditions: a subset of noise,blur,gradient,occlusion,bent,distortion (default all)
+  --distance-range A,B  sixdof: metres, 0 < A <= B (default 0.5,6)
+  --phi-max DEG       sixdof: the largest phi, in [0, 90) (default 80)
+  --lens K1,K2,P1,P2,K3  sixdof: OpenCV's distortion coefficients (default -0.2,0.05,0.001,-0.0005,0)
+  --defocus-max PX    sixdof: the largest defocus sigma, pixels (default 1.5)
+  --noise-max LEVELS  sixdof: the largest noise sigma, 8-bit levels (default 4)
+  --bins N            sixdof: bins per variable in the summary (default 10)
   --processes P       povray processes at once (default: one per core)
   --cache DIR         the frame cache (default $XDG_CACHE_HOME/tagbench/raytrace, else
                       ~/.cache/tagbench/raytrace): a rerun renders nothing, an interrupted run resumes
@@ -94,7 +121,10 @@ Writes into DIR, for angle / distance / conditions:
   *_summary.csv  per step (or condition and strength) and detector: detection rate with its Wilson 95 %
       interval, frames with a wrong id, median, 10th and 90th percentile of the errors, median time
   *.json         the settings, the conditions' definitions, the render report and any failed frames
-Plots: /usr/bin/python3 scripts/plot_raytrace.py DIR. A frame that fails to render is reported on
+  sixdof.csv     as above, plus after black_square_px: halton_index, k1, k2, p1, p2, k3,
+      defocus_sigma_px, noise_sigma, quantization_bits (image_x, image_y: the tag centre in the
+      distorted image); sixdof_summary.csv: per variable, bin and detector (variable "all": every frame)
+Plots: /usr/bin/python3 scripts/plot_raytrace.py DIR; sixdof: scripts/plot_sixdof.py DIR. A frame that fails to render is reported on
 stderr and left out; the run goes on.
 )";
 
@@ -104,8 +134,9 @@ stderr and left out; the run goes on.
 int cmd_raytrace(const Words& w) {
   if (wants_help(w, kHelp)) return 0;
   const Args a(w, {{"trials"}, {"tag-size"}, {"seed"}, {"detectors"}, {"family"}, {"scene"}, {"distance"}, {"angles"},
-                   {"distances"}, {"conditions"}, {"processes"}, {"cache"}, {"povray"}, {"out"}, {"external-timeout"}});
-  if (a.positionals().empty()) throw UsageError("which experiment? angle, distance or conditions");
+                   {"distances"}, {"conditions"}, {"processes"}, {"cache"}, {"povray"}, {"out"}, {"external-timeout"},
+                   {"frames"}, {"distance-range"}, {"phi-max"}, {"lens"}, {"defocus-max"}, {"noise-max"}, {"bins"}});
+  if (a.positionals().empty()) throw UsageError("which experiment? angle, distance, conditions or sixdof");
   if (a.positionals().size() > 1) throw UsageError("unexpected argument '" + a.positionals()[1] + "'");
   SweepSettings base;
   if (a.has("detectors"))

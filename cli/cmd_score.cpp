@@ -45,9 +45,10 @@ Options:
                        printed right edge, y toward the bottom edge, z into the tag; origin at the centre)
 
 Writes into DIR, as `tagbench raytrace` (same columns): fig9_angle.csv / fig10_distance.csv /
-conditions.csv (one row per frame), *_summary.csv (per step: detection rate with its Wilson 95 %
-interval, error percentiles) and *.json (what was scored, the convention, the settings). Plots:
-/usr/bin/python3 scripts/plot_raytrace.py DIR.
+conditions.csv / sixdof.csv (one row per frame), *_summary.csv (per step, or sixdof's variable and bin:
+detection rate with its Wilson 95 % interval, error percentiles) and *.json (what was scored, the
+convention, the settings). Plots: /usr/bin/python3 scripts/plot_raytrace.py DIR (sixdof:
+scripts/plot_sixdof.py DIR).
 When the corners or poses fit the truth far better under another declaration (a reversed or rotated
 corner order, a half-pixel shift, another tag frame), one line on stderr names the options.
 Errors (exit 1, nothing written): a line that is not JSON or lacks a field, an image that is not a frame

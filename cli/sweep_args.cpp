@@ -9,7 +9,8 @@ namespace tagbench::cli {
 using namespace tagbench::bench;
 
 std::vector<OptionSpec> sweep_option_specs() {
-  return {{"trials"}, {"tag-size"}, {"seed"}, {"family"}, {"scene"}, {"distance"}, {"angles"}, {"distances"}, {"conditions"}};
+  return {{"trials"}, {"tag-size"}, {"seed"}, {"family"}, {"scene"}, {"distance"}, {"angles"}, {"distances"}, {"conditions"},
+          {"frames"}, {"distance-range"}, {"phi-max"}, {"lens"}, {"defocus-max"}, {"noise-max"}, {"bins"}};
 }
 
 std::vector<std::string> split_items(const std::string& option, const std::string& s) {
@@ -49,12 +50,37 @@ SweepSettings parse_sweep_settings(const std::string& name, const Args& a, Sweep
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  s.trials = static_cast<int>(a.get_int("trials", 5, -1000000000, 1000000000));
+  const bool sixdof = s.experiment == Experiment::kSixdof;
+  if (sixdof) {
+    if (a.has("trials")) throw UsageError("--trials: the sixdof sweep takes --frames N");
+    s.trials = static_cast<int>(a.get_int("frames", 100, -1000000000, 1000000000));
+    SixdofSettings& x = s.sixdof;
+    if (a.has("distance-range")) {
+      const std::vector<double> r = number_list("--distance-range", *a.get("distance-range"));
+      if (r.size() != 2) throw UsageError("--distance-range: expected A,B (metres), got '" + *a.get("distance-range") + "'");
+      x.distance_min = r[0];
+      x.distance_max = r[1];
+    }
+    if (a.has("lens")) {
+      const std::vector<double> k = number_list("--lens", *a.get("lens"));
+      if (k.size() != 5) throw UsageError("--lens: expected k1,k2,p1,p2,k3 (OpenCV's model), got '" + *a.get("lens") + "'");
+      for (std::size_t i = 0; i < 5; ++i) x.distortion[i] = k[i];
+    }
+    x.phi_max_deg = a.get_double("phi-max", x.phi_max_deg, -1e300, 1e300);
+    x.defocus_max_px = a.get_double("defocus-max", x.defocus_max_px, -1e300, 1e300);
+    x.noise_max = a.get_double("noise-max", x.noise_max, -1e300, 1e300);
+    x.bins = static_cast<int>(a.get_int("bins", x.bins, -1000000000, 1000000000));
+  } else {
+    for (const char* o : {"frames", "distance-range", "phi-max", "lens", "defocus-max", "noise-max", "bins"})
+      if (a.has(o)) throw UsageError(std::string("--") + o + " belongs to the sixdof sweep");
+    s.trials = static_cast<int>(a.get_int("trials", 5, -1000000000, 1000000000));
+  }
   if (a.has("tag-size")) s.tag_size = parse_double("--tag-size", *a.get("tag-size"), -1e300, 1e300);
   if (a.has("seed")) s.seed = static_cast<std::uint64_t>(parse_int("--seed", *a.get("seed"), 0, (1LL << 62)));
   if (a.has("family")) s.family = *a.get("family");
   if (a.has("distance")) {
     if (s.experiment == Experiment::kDistance) throw UsageError("--distance: the distance sweep takes --distances");
+    if (sixdof) throw UsageError("--distance: the sixdof sweep takes --distance-range A,B");
     s.distance = parse_double("--distance", *a.get("distance"), -1e300, 1e300);
   }
   if (a.has("angles")) {

@@ -310,3 +310,31 @@ def raytrace_conditions(d):
             row.append(rates + (f" ({float(err):.2g}°)" if err else " (-)"))
         body.append(row)
     return table(["Condition", "Strengths"] + [RT_NAMES.get(x, x) for x in dets], body)
+
+
+SIXDOF_POSE = ["distance_m", "phi_deg", "tilt_axis_deg", "roll_deg", "image_x", "image_y"]
+
+
+def raytrace_sixdof(d):
+    """Per detector: the 6-DoF sweep's detection rate over every frame, the median errors, and the two pose
+    variables whose bins' detection rates spread the most (those that break it)."""
+    summary = rows(os.path.join(d, "sixdof_summary.csv"))
+    body = []
+    for det in _detectors(summary):
+        sel = [r for r in summary if r["detector"] == det]
+        a = next(r for r in sel if r["variable"] == "all")
+        spread = []
+        for v in SIXDOF_POSE:
+            rates = [float(r["detection_rate"]) for r in sel if r["variable"] == v]
+            spread.append((max(rates) - min(rates), v))
+        spread.sort(reverse=True)
+
+        def med(col, fmt):
+            return fmt.format(float(a[col])) if a[col] else "-"
+        body.append([RT_NAMES.get(det, det), a["frames"],
+                     f'{100 * float(a["detection_rate"]):.1f} ({100 * float(a["rate_lo95"]):.1f}-'
+                     f'{100 * float(a["rate_hi95"]):.1f})',
+                     med("corner_rms_px_median", "{:.3f}"), med("orientation_error_deg_median", "{:.2f}"),
+                     med("distance_error_m_median", "{:.4f}"), ", ".join(f"{v} {100 * x:.0f}" for x, v in spread[:2])])
+    return table(["Detector", "Frames", "Detected % (95 % CI)", "Corner RMS px, median", "Orientation error °, median",
+                  "Distance error m, median", "Variables that move its rate most (percentage points, max - min over bins)"], body)

@@ -35,20 +35,25 @@ TAGBENCH_CPU="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ */
   "$PY" scripts/speed_to_csv.py "$tmp" results/speed_stages.csv
 cp "$tmp" results/speed_stages.json.tmp && mv results/speed_stages.json.tmp results/speed_stages.json
 
-echo "bench: ray-traced localization (paper Figs. 9 and 10, and conditions beyond the paper)" >&2
+echo "bench: ray-traced localization (paper Figs. 9 and 10, and conditions and the 6-DoF sweep beyond the paper)" >&2
 # Frames are cached in $BUILD/raytrace-cache: a rerun renders nothing, an interrupted run resumes.
 RT_CACHE=$BUILD/raytrace-cache
 "$BIN" raytrace angle --trials 50 --cache "$RT_CACHE" --out results
 "$BIN" raytrace distance --trials 50 --cache "$RT_CACHE" --out results
 "$BIN" raytrace conditions --trials 50 --cache "$RT_CACHE" --out results
+# The FMAC protocol's 6-DoF sweep (issue 12, section 4): 1000 Halton frames of distance, phi, tilt axis,
+# roll and image position through a camera with a lens, defocus, noise and 8 bits; every built-in detector.
+"$BIN" raytrace sixdof --frames 1000 --cache "$RT_CACHE" --out results
 # The same frames as datasets any detector can be run on and scored against (README "Benchmark your own
-# detector"): PNG files and truth.json in $BUILD/datasets/{angle,distance,conditions}, from the cache.
+# detector"): PNG files and truth.json in $BUILD/datasets/{angle,distance,conditions,sixdof}, from the cache.
 for exp in angle distance conditions; do
   "$BIN" dataset export "$exp" --trials 50 --cache "$RT_CACHE" --out "$BUILD/datasets/$exp"
 done
+"$BIN" dataset export sixdof --frames 1000 --cache "$RT_CACHE" --out "$BUILD/datasets/sixdof"
 # Figs. 9 and 10 also draw the paper's Java AprilTag 1 and ARToolKitPlus, run outside the build on these
 # frames: read from ../shared/reference/external_runs/ when it is there, else from results/external/.
 "$PY" scripts/plot_raytrace.py results angle distance conditions
+"$PY" scripts/plot_sixdof.py results
 
 echo "bench: the realistic image set (small tags, JPEG photographs' camera; issue 17)" >&2
 "$BIN" realistic --frames 200 --out results

@@ -8,7 +8,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from readme_common import rows, table  # noqa: E402
-from readme_raytrace import RT_NAMES, _detectors, raytrace_conditions, raytrace_external_claims, raytrace_summary  # noqa: E402,F401
+from readme_raytrace import (RT_NAMES, _detectors, raytrace_conditions, raytrace_external_claims,  # noqa: E402,F401
+                             raytrace_sixdof, raytrace_summary)
 from readme_speed import loss_distance, loss_realistic, speed, speed_stages  # noqa: E402
 from readme_targets import issue17_targets  # noqa: E402
 
@@ -275,7 +276,7 @@ BLOCKS = {"pending": pending, "speed": speed, "speed_stages": speed_stages, "los
           "loss_realistic": loss_realistic, "issue17_targets": issue17_targets, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
           "raytrace_external_claims": raytrace_external_claims,
-          "raytrace_conditions": raytrace_conditions, "fig6_table": fig6_table, "fig7_table": fig7_table,
+          "raytrace_conditions": raytrace_conditions, "raytrace_sixdof": raytrace_sixdof, "fig6_table": fig6_table, "fig7_table": fig7_table,
           "fp_detectors_table": fp_detectors_table, "fp_detectors_groups": fp_detectors_groups,
           "corpus_groups": corpus_groups, "corpus_extraction": corpus_extraction, "fuzz": fuzz, "memory": memory,
           "margin_table": margin_table, "margin_findings": margin_findings, "realistic_table": realistic_table}

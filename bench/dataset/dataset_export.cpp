@@ -17,6 +17,7 @@ namespace {
 const char* unit_of(const SweepFrame& f, Experiment e) {
   if (e == Experiment::kAngle) return "deg";
   if (e == Experiment::kDistance) return "m";
+  if (e == Experiment::kSixdof) return "none";
   return condition_info(f.condition).unit;
 }
 
@@ -30,8 +31,9 @@ std::string matrix(const Eigen::Matrix3d& m) {
   return s + "]";
 }
 
-// The lens of a frame when it is not the pinhole: the distortion condition's k1.
+// The lens of a frame when it is not the pinhole: the distortion condition's k1, sixdof's lens.
 std::optional<std::array<double, 5>> frame_distortion(const SweepFrame& f) {
+  if (f.effect.camera) return f.effect.camera->distortion;
   if (f.effect.condition == Condition::kDistortion && f.effect.strength != 0)
     return std::array<double, 5>{-f.effect.strength, 0, 0, 0, 0};
   return std::nullopt;
@@ -55,8 +57,14 @@ std::string frame_json(const SweepFrame& f, std::size_t index, Experiment e) {
   j += ",\n     \"view\": {\"distance_m\": " + json_number(f.view.distance) + ", \"phi_deg\": " +
        json_number(f.view.phi_deg) + ", \"tilt_axis_deg\": " + json_number(f.view.tilt_axis_deg) +
        ", \"roll_deg\": " + json_number(f.view.roll_deg) + ", \"image_x\": " + json_number(f.view.pixel.x()) +
-       ", \"image_y\": " + json_number(f.view.pixel.y()) + "}}";
-  return j;
+       ", \"image_y\": " + json_number(f.view.pixel.y()) + "}";
+  if (const auto& c = f.effect.camera)
+    j += ",\n     \"camera_effects\": {\"halton_index\": " + std::to_string(f.sample) +
+         ", \"image_x\": " + json_number(f.image_position.x()) + ", \"image_y\": " + json_number(f.image_position.y()) +
+         ", \"defocus_sigma_px\": " + json_number(c->defocus_sigma_px) + ", \"noise_sigma\": " +
+         json_number(c->noise_sigma) + ", \"noise_seed\": " + std::to_string(c->noise_seed) +
+         ", \"quantization_bits\": " + std::to_string(c->quantization_bits) + "}";
+  return j + "}";
 }
 
 }  // namespace
@@ -70,19 +78,31 @@ std::string dataset_frame_file(std::size_t index) {
 std::string truth_json(const SweepSettings& s, const std::vector<SweepFrame>& frames,
                        const std::vector<FailedFrame>& failed) {
   const CameraIntrinsics K = render_camera();
+  const bool sixdof = s.experiment == Experiment::kSixdof;
   std::string j = "{\n  \"format\": " + json_string(kDatasetFormat) + ",\n  \"tool\": \"tagbench dataset export\",\n";
   j += "  \"experiment\": " + json_string(experiment_name(s.experiment)) + ",\n";
   j += "  \"settings\": {\"scene\": " + json_string(scene_name(s.scene)) + ", \"family\": " + json_string(s.family) +
        ", \"tag_size_m\": " + json_number(*s.tag_size) + ", \"seed\": " + std::to_string(s.seed) +
        ", \"trials\": " + std::to_string(s.trials) + ",\n    \"steps\": " +
-       (s.experiment == Experiment::kConditions ? std::string("null") : json_numbers(s.steps)) +
+       (s.experiment == Experiment::kConditions || sixdof ? std::string("null") : json_numbers(s.steps)) +
        ", \"distance_m\": " + (s.distance ? json_number(*s.distance) : std::string("null")) + ", \"conditions\": [";
   for (std::size_t i = 0; i < s.conditions.size(); ++i) j += (i ? ", " : "") + json_string(condition_name(s.conditions[i]));
-  j += "]},\n";
+  if (sixdof) {
+    const SixdofSettings& x = s.sixdof;
+    j += "],\n    \"sixdof\": {\"distance_range_m\": " + json_numbers({x.distance_min, x.distance_max}) +
+         ", \"phi_max_deg\": " + json_number(x.phi_max_deg) +
+         ", \"lens\": " + json_numbers({x.distortion.begin(), x.distortion.end()}) +
+         ", \"defocus_max_px\": " + json_number(x.defocus_max_px) + ", \"noise_max\": " + json_number(x.noise_max) +
+         ", \"margin_px\": " + json_number(x.margin_px) + ", \"bins\": " + std::to_string(x.bins) + "}},\n";
+  } else {
+    j += "]},\n";
+  }
   j += "  \"camera\": {\"width\": " + std::to_string(kRenderWidth) + ", \"height\": " + std::to_string(kRenderHeight) +
        ", \"fx\": " + json_number(K.fx) + ", \"fy\": " + json_number(K.fy) + ", \"cx\": " + json_number(K.cx) +
        ", \"cy\": " + json_number(K.cy) +
-       ", \"distortion\": [0, 0, 0, 0, 0],\n    \"model\": " +
+       ", \"distortion\": " +
+       (sixdof ? json_numbers({s.sixdof.distortion.begin(), s.sixdof.distortion.end()}) : std::string("[0, 0, 0, 0, 0]")) +
+       ",\n    \"model\": " +
        json_string("pinhole; distortion is OpenCV's k1, k2, p1, p2, k3 (a frame's own \"distortion\" overrides it)") +
        ", \"renderer\": \"POV-Ray 3.7\"},\n";
   j += "  \"conventions\": {\"pixel_centres\": \"integer\", \"corner_order\": \"tl-tr-br-bl\", \"tag_frame_axes\": "

@@ -74,6 +74,19 @@ DatasetFrame read_frame(const JsonValue& j, const Dataset& d) {
   f.view.tilt_axis_deg = v.at("tilt_axis_deg", vw).number(vw + ".tilt_axis_deg");
   f.view.roll_deg = v.at("roll_deg", vw).number(vw + ".roll_deg");
   f.view.pixel = Eigen::Vector2d(v.at("image_x", vw).number(vw + ".image_x"), v.at("image_y", vw).number(vw + ".image_y"));
+  if (d.settings.experiment == Experiment::kSixdof) {
+    const JsonValue& c = j.at("camera_effects", what);
+    const std::string cw = what + ": camera_effects";
+    CameraEffects cam;
+    cam.distortion = out.distortion.value_or(d.settings.sixdof.distortion);
+    cam.defocus_sigma_px = c.at("defocus_sigma_px", cw).number(cw + ".defocus_sigma_px");
+    cam.noise_sigma = c.at("noise_sigma", cw).number(cw + ".noise_sigma");
+    cam.noise_seed = c.at("noise_seed", cw).uint64(cw + ".noise_seed");
+    cam.quantization_bits = c.at("quantization_bits", cw).integer(cw + ".quantization_bits");
+    f.effect.camera = cam;
+    f.sample = c.at("halton_index", cw).uint64(cw + ".halton_index");
+    f.image_position = Eigen::Vector2d(c.at("image_x", cw).number(cw + ".image_x"), c.at("image_y", cw).number(cw + ".image_y"));
+  }
   if (d.settings.experiment == Experiment::kConditions && f.condition != Condition::kNone) {
     f.effect.condition = f.condition;
     f.effect.strength = f.step;
@@ -107,6 +120,19 @@ Dataset read_dataset(const std::filesystem::path& path) {
       s.distance = dist.number("settings.distance_m");
     for (const auto& c : st.at("conditions", "settings").array("settings.conditions"))
       s.conditions.push_back(parse_condition(c.string("settings.conditions")));
+    if (s.experiment == Experiment::kSixdof) {
+      const JsonValue& x = st.at("sixdof", "settings");
+      const auto range = read_numbers(x.at("distance_range_m", "settings.sixdof"), 2, "settings.sixdof.distance_range_m");
+      s.sixdof.distance_min = range[0];
+      s.sixdof.distance_max = range[1];
+      s.sixdof.phi_max_deg = x.at("phi_max_deg", "settings.sixdof").number("settings.sixdof.phi_max_deg");
+      const auto lens = read_numbers(x.at("lens", "settings.sixdof"), 5, "settings.sixdof.lens");
+      for (std::size_t k = 0; k < 5; ++k) s.sixdof.distortion[k] = lens[k];
+      s.sixdof.defocus_max_px = x.at("defocus_max_px", "settings.sixdof").number("settings.sixdof.defocus_max_px");
+      s.sixdof.noise_max = x.at("noise_max", "settings.sixdof").number("settings.sixdof.noise_max");
+      s.sixdof.margin_px = x.at("margin_px", "settings.sixdof").number("settings.sixdof.margin_px");
+      s.sixdof.bins = x.at("bins", "settings.sixdof").integer("settings.sixdof.bins");
+    }
     for (const auto& f : j.at("frames", "truth.json").array("frames")) d.frames.push_back(read_frame(f, d));
     if (const JsonValue* failed = j.find("failed"))
       for (const auto& f : failed->array("failed"))

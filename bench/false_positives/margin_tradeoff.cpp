@@ -35,6 +35,7 @@ std::vector<TrueFrame> true_frames(const SweepResult& r) {
     switch (r.settings.experiment) {
       case Experiment::kAngle: t.part = "angle", t.unit = "deg"; break;
       case Experiment::kDistance: t.part = "distance", t.unit = "m"; break;
+      case Experiment::kSixdof: t.part = "sixdof", t.unit = "none"; break;
       case Experiment::kConditions:
         t.part = condition_name(f.condition);
         t.unit = condition_info(f.condition).unit;

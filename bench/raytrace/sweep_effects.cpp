@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "raytrace/sixdof.hpp"
 #include "raytrace/sweep_detail.hpp"
 #include "raytrace/sweeps.hpp"
 
@@ -62,6 +63,7 @@ const std::pair<cv::Mat, cv::Mat>& distortion_maps(double k1) {
 cv::Mat apply_effect(const cv::Mat& gray8, const SweepFrame& f) {
   if (gray8.type() != CV_8UC1) throw std::invalid_argument("apply_effect needs an 8-bit gray image");
   const ImageEffect& e = f.effect;
+  if (e.camera) return apply_camera_effects(gray8, *e.camera);
   if (e.strength == 0) return gray8;
   cv::Mat out;
   switch (e.condition) {

@@ -55,8 +55,7 @@ std::vector<std::vector<DetectorOutput>> run_external_detectors(const SweepSetti
     if (!report.frames[i].ok()) continue;
     const SweepFrame& f = frames[i];
     const std::string png = report.frames[i].png.string();
-    const bool unmodified = f.effect.strength == 0 || f.effect.condition == Condition::kOcclusion ||
-                            f.effect.condition == Condition::kBent;
+    const bool unmodified = frame_unmodified(f);
     if (unmodified) {
       if (auto it = by_render.find(png); it != by_render.end()) {
         image_of[i] = it->second;

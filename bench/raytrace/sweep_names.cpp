@@ -12,6 +12,7 @@ const char* experiment_name(Experiment e) {
     case Experiment::kAngle: return "angle";
     case Experiment::kDistance: return "distance";
     case Experiment::kConditions: return "conditions";
+    case Experiment::kSixdof: return "sixdof";
   }
   return "?";
 }
@@ -21,6 +22,7 @@ const char* result_stem(Experiment e) {
     case Experiment::kAngle: return "fig9_angle";
     case Experiment::kDistance: return "fig10_distance";
     case Experiment::kConditions: return "conditions";
+    case Experiment::kSixdof: return "sixdof";
   }
   return "?";
 }
@@ -82,9 +84,9 @@ SceneKind parse_scene(const std::string& name) {
 }
 
 Experiment parse_experiment(const std::string& name) {
-  for (const Experiment e : {Experiment::kAngle, Experiment::kDistance, Experiment::kConditions})
+  for (const Experiment e : {Experiment::kAngle, Experiment::kDistance, Experiment::kConditions, Experiment::kSixdof})
     if (name == experiment_name(e)) return e;
-  throw std::invalid_argument("unknown experiment '" + name + "' (angle, distance, conditions)");
+  throw std::invalid_argument("unknown experiment '" + name + "' (angle, distance, conditions, sixdof)");
 }
 
 }  // namespace tagbench::bench

@@ -1,6 +1,7 @@
 // The files a sweep writes: rows and summaries as CSV, and the JSON sidecar.
 #include <string>
 
+#include "raytrace/sixdof.hpp"
 #include "raytrace/sweep_detail.hpp"
 #include "raytrace/sweeps.hpp"
 #include "tools/format.hpp"
@@ -17,17 +18,55 @@ const char* step_unit(const SweepFrame& f, Experiment e) {
     case Experiment::kAngle: return "deg";
     case Experiment::kDistance: return "m";
     case Experiment::kConditions: return condition_info(f.condition).unit;
+    case Experiment::kSixdof: return "none";
   }
   return "";
 }
+
+// sixdof's columns after black_square_px: the Halton index and the camera.
+constexpr const char* kSixdofHeader = ",halton_index,k1,k2,p1,p2,k3,defocus_sigma_px,noise_sigma,quantization_bits";
+
+std::string sixdof_cells(const SweepFrame& f) {
+  const CameraEffects c = f.effect.camera.value_or(CameraEffects{});
+  std::string o = ",";
+  o += std::to_string(f.sample);
+  for (const double k : c.distortion) {
+    o += ',';
+    o += format_cell(k, "%.10g");
+  }
+  return o + "," + format_cell(c.defocus_sigma_px, "%.6f") + "," + format_cell(c.noise_sigma, "%.6f") + "," +
+         std::to_string(c.quantization_bits);
+}
+
+std::string stats_cells(const SummaryRow& s) {
+  const auto st = [](const ErrorStats& e) {
+    return format_cell(e.median, "%.6g") + "," + format_cell(e.p10, "%.6g") + "," + format_cell(e.p90, "%.6g");
+  };
+  return std::to_string(s.frames) + "," + std::to_string(s.detected) + "," + format_cell(s.detection_rate, "%.6g") +
+         "," + format_cell(s.rate_lo95, "%.6g") + "," + format_cell(s.rate_hi95, "%.6g") + "," +
+         std::to_string(s.wrong_id_frames) + "," + format_cell(s.black_square_px_median, "%.4f") + "," +
+         st(s.orientation_deg) + "," + st(s.distance_m) + "," + st(s.distance_percent) + "," + st(s.corner_rms_px) +
+         "," + format_cell(s.ms_median, "%.4f") + lost_cells(s.lost);
+}
+
+constexpr const char* kStatsHeader =
+    "frames,detected,detection_rate,rate_lo95,rate_hi95,"
+    "wrong_id_frames,black_square_px_median,"
+    "orientation_error_deg_median,orientation_error_deg_p10,orientation_error_deg_p90,"
+    "distance_error_m_median,distance_error_m_p10,distance_error_m_p90,"
+    "distance_error_percent_median,distance_error_percent_p10,distance_error_percent_p90,"
+    "corner_rms_px_median,corner_rms_px_p10,corner_rms_px_p90,ms_median";
 
 }  // namespace
 
 std::string rows_csv(const SweepResult& r) {
   const SweepSettings& s = r.settings;
+  const bool sixdof = s.experiment == Experiment::kSixdof;
   std::string o =
       "experiment,condition,step,step_unit,trial,seed,id,scene,family,tag_size_m,distance_m,phi_deg,tilt_axis_deg,"
-      "roll_deg,image_x,image_y,black_square_px,detector,detected_right_id,wrong_id,orientation_error_deg,"
+      "roll_deg,image_x,image_y,black_square_px" +
+      std::string(sixdof ? kSixdofHeader : "") +
+      ",detector,detected_right_id,wrong_id,orientation_error_deg,"
       "distance_error_m,distance_error_percent,corner_rms_px,decision_margin,ms" +
       loss_header() + "\n";
   for (const SweepRow& row : r.rows) {
@@ -37,9 +76,9 @@ std::string rows_csv(const SweepResult& r) {
          std::to_string(f.seed) + "," + std::to_string(f.frame.id) + "," + scene_name(s.scene) + "," + f.frame.family +
          "," + format_cell(f.frame.tag_size, "%.10g") + "," + format_cell(f.frame.pose.t.norm(), "%.10g") + "," +
          format_cell(view_angle_deg(f.frame.pose), "%.6f") + "," + format_cell(f.view.tilt_axis_deg, "%.6f") + "," +
-         format_cell(f.view.roll_deg, "%.6f") + "," + format_cell(f.view.pixel.x(), "%.4f") + "," +
-         format_cell(f.view.pixel.y(), "%.4f") + "," + format_cell(f.truth.black_square_px, "%.4f") + "," +
-         row.detector + "," + (row.detected_right_id ? "1" : "0") + "," + (row.wrong_id ? "1" : "0") + "," +
+         format_cell(f.view.roll_deg, "%.6f") + "," + format_cell((sixdof ? f.image_position : f.view.pixel).x(), "%.4f") +
+         "," + format_cell((sixdof ? f.image_position : f.view.pixel).y(), "%.4f") + "," +
+         format_cell(f.truth.black_square_px, "%.4f") + (sixdof ? sixdof_cells(f) : std::string()) + "," + row.detector + "," + (row.detected_right_id ? "1" : "0") + "," + (row.wrong_id ? "1" : "0") + "," +
          format_cell(row.orientation_error_deg, "%.6g") + "," + format_cell(row.distance_error_m, "%.6g") + "," +
          format_cell(row.distance_error_percent, "%.6g") + "," + format_cell(row.corner_rms_px, "%.6g") + "," +
          format_cell(row.decision_margin, "%.6g") + "," + format_cell(row.ms, "%.4f") + loss_cells(row.loss) + "\n";
@@ -48,6 +87,13 @@ std::string rows_csv(const SweepResult& r) {
 }
 
 std::string summary_csv(const SweepResult& r, const std::vector<SummaryRow>& summary) {
+  if (r.settings.experiment == Experiment::kSixdof) {
+    std::string o = "experiment,variable,bin_lo,bin_hi,detector," + std::string(kStatsHeader) + lost_header() + "\n";
+    for (const SummaryRow& s : summary)
+      o += "sixdof," + s.variable + "," + format_cell(s.step, "%.10g") + "," + format_cell(s.bin_hi, "%.10g") + "," +
+           s.detector + "," + stats_cells(s) + "\n";
+    return o;
+  }
   std::string o =
       "experiment,condition,step,step_unit,detector,frames,detected,detection_rate,rate_lo95,rate_hi95,"
       "wrong_id_frames,black_square_px_median,"
@@ -79,23 +125,27 @@ std::string sidecar_json(const SweepResult& r) {
   const CameraIntrinsics K = render_camera();
   std::string j = "{\n  \"tool\": \"tagbench raytrace\",\n";
   j += "  \"experiment\": " + json_string(experiment_name(s.experiment)) + ",\n";
+  const bool sixdof = s.experiment == Experiment::kSixdof;
   const char* paper = s.experiment == Experiment::kAngle      ? "Fig. 9 (section VI-B)"
                       : s.experiment == Experiment::kDistance ? "Fig. 10 (section VI-B)"
-                                                              : "beyond the paper";
+                      : sixdof ? "beyond the paper: the FMAC protocol's 6-DoF sweep (arXiv 2601.07723)"
+                               : "beyond the paper";
   j += "  \"paper\": " + json_string(paper) + ",\n";
   j += "  \"files\": {\"rows\": " + json_string(std::string(result_stem(s.experiment)) + ".csv") +
        ", \"summary\": " + json_string(std::string(result_stem(s.experiment)) + "_summary.csv") + "},\n";
   j += "  \"settings\": {\"scene\": " + json_string(scene_name(s.scene)) + ", \"family\": " + json_string(s.family) +
        ", \"tag_size_m\": " + json_number(*s.tag_size) + ", \"seed\": " + std::to_string(s.seed) +
        ", \"trials\": " + std::to_string(s.trials) + ",\n    \"steps\": " +
-       (s.experiment == Experiment::kConditions ? std::string("null") : json_numbers(s.steps)) +
+       (s.experiment == Experiment::kConditions || sixdof ? std::string("null") : json_numbers(s.steps)) +
        ", \"step_unit\": " +
        (s.experiment == Experiment::kAngle      ? json_string("deg")
         : s.experiment == Experiment::kDistance ? json_string("m")
                                                 : std::string("null")) +
        ",\n    \"distance_m\": " + (s.distance ? json_number(*s.distance) : std::string("null")) +
-       ", \"position_radius_px\": " + json_number(position_radius_px(s.experiment)) + ", \"phi_deg\": ";
-  if (s.experiment == Experiment::kAngle) j += "\"the step\"";
+       ", \"position_radius_px\": " + (sixdof ? std::string("null") : json_number(position_radius_px(s.experiment))) +
+       ", \"phi_deg\": ";
+  if (sixdof) j += "\"Halton, in [0, phi_max_deg]\"";
+  else if (s.experiment == Experiment::kAngle) j += "\"the step\"";
   else if (s.experiment == Experiment::kDistance) j += "0";
   else
     j += "\"uniform in [0, " + format_cell(kConditionsMaxPhi, "%.10g") + "]\"";
@@ -109,14 +159,18 @@ std::string sidecar_json(const SweepResult& r) {
            ", \"timeout_s\": " + json_number(s.external[i].timeout_seconds) + "}";
   }
   j += "],\n    \"random\": " +
-       json_string("per trial: splitmix64 seeded from (seed, experiment, trial) draws the id, the tilt axis and "
+       json_string(sixdof ? sixdof_description() : "per trial: splitmix64 seeded from (seed, experiment, trial) draws the id, the tilt axis and "
                    "the in-plane rotation (uniform in [0, 360) degrees), the image position (uniform in a disc of "
                    "position_radius_px about the principal point), and for conditions phi and the gradient's "
-                   "direction; the same draws at every step") +
-       "},\n";
+                   "direction; the same draws at every step");
+  if (sixdof) j += ",\n    \"sixdof\": " + sixdof_settings_json(s);
+  j += "},\n";
   j += "  \"camera\": {\"width\": " + std::to_string(kRenderWidth) + ", \"height\": " + std::to_string(kRenderHeight) +
        ", \"fx\": " + json_number(K.fx) + ", \"fy\": " + json_number(K.fy) + ", \"cx\": " + json_number(K.cx) +
        ", \"cy\": " + json_number(K.cy) +
+       (sixdof ? ", \"distortion\": " + json_numbers({s.sixdof.distortion.begin(), s.sixdof.distortion.end()}) +
+                     ", \"distortion_model\": \"OpenCV k1, k2, p1, p2, k3\""
+               : std::string()) +
        ", \"renderer\": \"POV-Ray 3.7, +A0.1 +AM2 +R3, File_Gamma 1.0\", \"pixels\": \"centres at integer "
        "coordinates\"},\n";
   j += "  \"conditions\": [";

@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include "codes/families.hpp"
+#include "raytrace/sixdof.hpp"
 #include "raytrace/sweep_detail.hpp"
 #include "raytrace/sweeps.hpp"
 #include "tools/format.hpp"
@@ -75,7 +76,7 @@ double mean_edge(const Corners& c) {
 }
 
 // OpenCV's radial model with k1 only, about the principal point, in pixels.
-Eigen::Vector2d distort_pixel(const Eigen::Vector2d& p, double k1) {
+Eigen::Vector2d distort_pixel_k1(const Eigen::Vector2d& p, double k1) {
   const CameraIntrinsics K = render_camera();
   const double x = (p.x() - K.cx) / K.fx, y = (p.y() - K.cy) / K.fy, r2 = x * x + y * y;
   const double f = 1 + k1 * r2;
@@ -110,6 +111,32 @@ const ExternalDetector* find_external(const SweepSettings& s, const std::string&
     if (e.name == name) return &e;
   return nullptr;
 }
+
+namespace {
+
+// sixdof's settings: no steps, conditions or fixed distance; its ranges and camera in range.
+void resolve_sixdof(const SweepSettings& s, const std::string& what) {
+  if (!s.steps.empty()) throw std::invalid_argument(what + "takes no steps (its frames are Halton samples)");
+  if (s.distance) throw std::invalid_argument(what + "takes a distance range, not a fixed distance");
+  const SixdofSettings& x = s.sixdof;
+  const auto num = [](double v) { return format_cell(v, "%.10g"); };
+  if (!(x.distance_min > 0) || !(x.distance_max >= x.distance_min) || !std::isfinite(x.distance_max))
+    throw std::invalid_argument("distance range must be 0 < A <= B metres (got " + num(x.distance_min) + "," +
+                                num(x.distance_max) + ")");
+  if (!(x.phi_max_deg >= 0 && x.phi_max_deg < 90))
+    throw std::invalid_argument("phi max " + num(x.phi_max_deg) + " is outside [0, 90) degrees");
+  for (const double k : x.distortion)
+    if (!std::isfinite(k) || std::abs(k) > 10) throw std::invalid_argument("lens coefficient " + num(k) + " is not in [-10, 10]");
+  if (!(x.defocus_max_px >= 0 && x.defocus_max_px <= 50))
+    throw std::invalid_argument("defocus max " + num(x.defocus_max_px) + " is outside [0, 50] px");
+  if (!(x.noise_max >= 0 && x.noise_max <= 255))
+    throw std::invalid_argument("noise max " + num(x.noise_max) + " is outside [0, 255] levels");
+  if (!(x.margin_px >= 0 && x.margin_px < 100))
+    throw std::invalid_argument("margin " + num(x.margin_px) + " is outside [0, 100) px");
+  if (x.bins < 1 || x.bins > 100) throw std::invalid_argument("bins must be in 1..100 (got " + std::to_string(x.bins) + ")");
+}
+
+}  // namespace
 
 SweepSettings resolve_settings(const SweepSettings& in) {
   SweepSettings s = in;
@@ -157,6 +184,10 @@ SweepSettings resolve_settings(const SweepSettings& in) {
   } else if (!s.conditions.empty()) {
     throw std::invalid_argument(what + "conditions belong to the conditions sweep");
   }
+  if (s.experiment == Experiment::kSixdof) {
+    resolve_sixdof(s, what);
+    return s;
+  }
   if (s.experiment == Experiment::kDistance) {
     if (s.distance) throw std::invalid_argument(what + "its distances are its steps (not a fixed distance)");
   } else {
@@ -183,8 +214,14 @@ double view_angle_deg(const Pose& pose) {
   return std::atan2(normal.cross(to_camera).norm(), normal.dot(to_camera)) / kDeg;  // exact near 0 too
 }
 
+bool frame_unmodified(const SweepFrame& f) {
+  if (f.effect.camera) return false;
+  return f.effect.strength == 0 || f.effect.condition == Condition::kOcclusion || f.effect.condition == Condition::kBent;
+}
+
 std::vector<SweepFrame> plan_sweep(const SweepSettings& in) {
   const SweepSettings s = resolve_settings(in);
+  if (s.experiment == Experiment::kSixdof) return plan_sixdof(s);
   const TagFamily family = load_family(s.family);
   const int cells = tag_cells_across(s.family);
   const double tag = *s.tag_size;
@@ -257,7 +294,7 @@ std::vector<SweepFrame> plan_sweep(const SweepSettings& in) {
           break;
         }
         case Condition::kDistortion:
-          for (auto& p : f.truth.corners) p = distort_pixel(p, -strength);
+          for (auto& p : f.truth.corners) p = distort_pixel_k1(p, -strength);
           f.truth.black_square_px = mean_edge(f.truth.corners);
           break;
         default: break;

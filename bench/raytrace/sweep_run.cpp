@@ -19,12 +19,12 @@ namespace {
 
 using DetectorSet = std::vector<std::unique_ptr<Comparator>>;
 
-DetectorSet make_detectors(const SweepSettings& s, std::optional<double> k1) {
+DetectorSet make_detectors(const SweepSettings& s, std::optional<std::array<double, 5>> distortion) {
   ComparatorSetup setup;
   setup.family = s.family;
   setup.camera = render_camera();
   setup.tag_size = *s.tag_size;
-  if (k1) setup.distortion = std::array<double, 5>{*k1, 0, 0, 0, 0};
+  setup.distortion = distortion;
   DetectorSet set;
   for (const auto& name : s.detectors)
     if (!find_external(s, name)) set.push_back(make_comparator(name, setup));  // the built-in ones, in order
@@ -75,7 +75,11 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
   res.settings = resolve_settings(settings);
   res.frames = plan_sweep(res.settings);
   const SweepSettings& s = res.settings;
-  DetectorSet plain = make_detectors(s, std::nullopt);  // a bad detector setup fails before any rendering
+  // The detectors of the sweep's lens (sixdof: its camera's; the others: the pinhole); a bad detector
+  // setup fails before any rendering.
+  DetectorSet plain = make_detectors(s, s.experiment == Experiment::kSixdof
+                                            ? std::optional<std::array<double, 5>>(s.sixdof.distortion)
+                                            : std::nullopt);
   std::vector<std::string> builtin_names;  // the built-in detectors, in the order of `plain`
   for (std::size_t k = 0, b = 0; k < s.detectors.size(); ++k) {
     if (find_external(s, s.detectors[k])) {
@@ -137,8 +141,7 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
     if (!report.frames[i].ok()) continue;
     const SweepFrame& f = res.frames[i];
     const std::string png = report.frames[i].png.string();
-    const bool unmodified = f.effect.strength == 0 || f.effect.condition == Condition::kOcclusion ||
-                            f.effect.condition == Condition::kBent;
+    const bool unmodified = frame_unmodified(f);
     const FrameRun* run = nullptr;
     FrameRun fresh;
     if (unmodified) {
@@ -154,7 +157,8 @@ SweepResult run_sweep(const SweepSettings& settings, RenderOptions render_option
       if (f.effect.condition == Condition::kDistortion && f.effect.strength != 0) {
         const double k1 = -f.effect.strength;
         auto it = distorted.find(k1);
-        if (it == distorted.end()) it = distorted.emplace(k1, make_detectors(s, k1)).first;
+        if (it == distorted.end())
+          it = distorted.emplace(k1, make_detectors(s, std::array<double, 5>{k1, 0, 0, 0, 0})).first;
         set = &it->second;
       }
       for (auto& det : *set) fresh.outputs.push_back(det->run(image));

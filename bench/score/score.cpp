@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "codes/families.hpp"
+#include "raytrace/sixdof.hpp"
 #include "score/score.hpp"
 #include "tools/format.hpp"
 #include "tools/json.hpp"
@@ -171,6 +172,7 @@ std::string score_sidecar_json(const ScoreResult& r, const std::filesystem::path
   const SweepSettings& s = r.sweep.settings;
   const CameraIntrinsics K = render_camera();
   const std::string stem = result_stem(s.experiment);
+  const bool sixdof = s.experiment == Experiment::kSixdof;
   std::string j = "{\n  \"tool\": \"tagbench score\",\n  \"experiment\": " + json_string(experiment_name(s.experiment)) +
                   ",\n  \"dataset\": " + json_string(dataset.string()) + ", \"detections\": " + json_string(detections) +
                   ",\n  \"detector\": " + json_string(s.detectors.front()) +
@@ -183,12 +185,16 @@ std::string score_sidecar_json(const ScoreResult& r, const std::filesystem::path
   j += "  \"settings\": {\"scene\": " + json_string(scene_name(s.scene)) + ", \"family\": " + json_string(s.family) +
        ", \"tag_size_m\": " + json_number(*s.tag_size) + ", \"seed\": " + std::to_string(s.seed) +
        ", \"trials\": " + std::to_string(s.trials) + ",\n    \"steps\": " +
-       (s.experiment == Experiment::kConditions ? std::string("null") : json_numbers(s.steps)) +
+       (s.experiment == Experiment::kConditions || sixdof ? std::string("null") : json_numbers(s.steps)) +
        ", \"distance_m\": " + (s.distance ? json_number(*s.distance) : std::string("null")) +
-       ", \"detectors\": [" + json_string(s.detectors.front()) + "]},\n";
+       ", \"detectors\": [" + json_string(s.detectors.front()) + "]" +
+       (sixdof ? ",\n    \"sixdof\": " + sixdof_settings_json(s) : std::string()) + "},\n";
   j += "  \"camera\": {\"width\": " + std::to_string(kRenderWidth) + ", \"height\": " + std::to_string(kRenderHeight) +
        ", \"fx\": " + json_number(K.fx) + ", \"fy\": " + json_number(K.fy) + ", \"cx\": " + json_number(K.cx) +
-       ", \"cy\": " + json_number(K.cy) + "},\n";
+       ", \"cy\": " + json_number(K.cy) +
+       (sixdof ? ", \"distortion\": " + json_numbers({s.sixdof.distortion.begin(), s.sixdof.distortion.end()})
+               : std::string()) +
+       "},\n";
   j += "  \"measures\": " +
        json_string("as tagbench raytrace: detected_right_id, wrong_id, errors of the right-id detection nearest the "
                    "truth (orientation = the angle of R_est^T R_true, distance = | |t_est| - |t_true| |, corner RMS); "

@@ -71,6 +71,48 @@ TEST(Dataset, FilesHoldTheSweepsFramesExactly) {
   }
 }
 
+TEST(Dataset, SixdofFilesHoldTheFramesTheirLensAndCameraEffects) {
+  if (!test::have_povray()) GTEST_SKIP() << "povray not installed";
+  SweepSettings s;
+  s.experiment = Experiment::kSixdof;
+  s.trials = 3;
+  s.sixdof.noise_max = 6;
+  const DatasetFiles files = make_dataset(s, test::gentle_options(test::shared_cache()));
+  testing::ScratchDir dir("tagbench_dataset");
+  write_dataset(dir.path() / "ds", files);
+  const Dataset d = read_dataset(dir.path() / "ds");
+  EXPECT_EQ(d.settings.experiment, Experiment::kSixdof);
+  EXPECT_EQ(d.settings.sixdof.noise_max, 6);
+  EXPECT_EQ(d.settings.sixdof.distortion, s.sixdof.distortion);
+  EXPECT_NE(files.truth_json.find("\"distortion\": [-0.2, 0.05, 0.001, -5e-04, 0],\n    \"model\""), std::string::npos);
+  SweepSettings with_ours = s;
+  with_ours.detectors = {comparator_names().front()};
+  const std::vector<SweepFrame> plan = plan_sweep(with_ours);
+  ASSERT_EQ(d.frames.size(), 3u);
+  std::vector<FramePose> poses;
+  for (const auto& f : plan) poses.push_back(f.frame);
+  const RenderReport report = render_frames(poses, scene_template(SceneKind::kPlain), test::gentle_options(test::shared_cache()));
+  for (std::size_t i = 0; i < plan.size(); ++i) {
+    const DatasetFrame& got = d.frames[i];
+    const SweepFrame& want = plan[i];
+    ASSERT_TRUE(got.distortion.has_value());
+    EXPECT_EQ(*got.distortion, s.sixdof.distortion);
+    ASSERT_TRUE(got.frame.effect.camera.has_value());
+    EXPECT_EQ(got.frame.effect.camera->defocus_sigma_px, want.effect.camera->defocus_sigma_px);
+    EXPECT_EQ(got.frame.effect.camera->noise_sigma, want.effect.camera->noise_sigma);
+    EXPECT_EQ(got.frame.effect.camera->noise_seed, want.effect.camera->noise_seed);
+    EXPECT_EQ(got.frame.sample, want.sample);
+    EXPECT_EQ(got.frame.image_position, want.image_position);
+    EXPECT_EQ(got.frame.view.phi_deg, want.view.phi_deg);
+    for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(got.frame.truth.corners[k], want.truth.corners[k]);
+    const cv::Mat png = cv::imread((dir.path() / "ds" / got.file).string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat expected = apply_effect(read_frame_gray(report.frames[i].png), want);
+    EXPECT_EQ(cv::norm(png, expected, cv::NORM_INF), 0) << got.file;
+    // ... and the read-back frame makes the same image (its camera effects are all there).
+    EXPECT_EQ(cv::norm(apply_effect(read_frame_gray(report.frames[i].png), got.frame), expected, cv::NORM_INF), 0);
+  }
+}
+
 TEST(Dataset, FolderRules) {
   testing::ScratchDir dir("tagbench_dataset");
   DatasetFiles files;

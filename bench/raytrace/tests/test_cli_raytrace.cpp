@@ -55,7 +55,7 @@ std::string common(const fs::path& out) {
 TEST(CliRaytrace, HelpNamesTheExperimentsAndTheFiles) {
   const Result r = run("--help");
   EXPECT_EQ(r.code, 0);
-  for (const char* s : {"usage: tagbench raytrace angle|distance|conditions", "--trials", "--tag-size", "--seed",
+  for (const char* s : {"usage: tagbench raytrace angle|distance|conditions|sixdof", "--trials", "--frames", "--lens", "sixdof.csv", "--tag-size", "--seed",
                         "--detectors", "--scene", "--processes", "--cache", "--out", "fig9_angle.csv",
                         "fig10_distance.csv", "conditions.csv", "_summary.csv", "66 px"})
     EXPECT_NE(r.out.find(s), std::string::npos) << s;
@@ -83,6 +83,21 @@ TEST(CliRaytrace, BadOptionsAreRefusedWithOneLineAndNoOutput) {
       {"distance --distances 1", "does not fit"},
       {"angle --distances 5", "--distances belongs to the distance sweep"},
       {"angle --frobnicate", "unknown option '--frobnicate'"},
+      {"sixdof --trials 3", "--trials: the sixdof sweep takes --frames N"},
+      {"sixdof --frames 0", "trials must be > 0"},
+      {"sixdof --distance 2", "--distance: the sixdof sweep takes --distance-range A,B"},
+      {"sixdof --distance-range 3", "--distance-range: expected A,B (metres), got '3'"},
+      {"sixdof --distance-range 3,1", "distance range must be 0 < A <= B metres (got 3,1)"},
+      {"sixdof --distance-range 0.05,0.1", "the tag does not fit in the 400 x 400 image"},
+      {"sixdof --phi-max 95", "phi max 95 is outside [0, 90) degrees"},
+      {"sixdof --lens 0.1,0", "--lens: expected k1,k2,p1,p2,k3 (OpenCV's model), got '0.1,0'"},
+      {"sixdof --lens 0,0,0,0,x", "--lens: 'x' is not a finite number"},
+      {"sixdof --noise-max -1", "noise max -1 is outside [0, 255] levels"},
+      {"sixdof --defocus-max 99", "defocus max 99 is outside [0, 50] px"},
+      {"sixdof --bins 0", "bins must be in 1..100 (got 0)"},
+      {"sixdof --angles 5", "--angles belongs to the angle sweep"},
+      {"angle --frames 5", "--frames belongs to the sixdof sweep"},
+      {"conditions --lens 0,0,0,0,0", "--lens belongs to the sixdof sweep"},
   };
   for (const auto& [args, fragment] : cases) {
     const Result r = run(args + o);
@@ -143,6 +158,38 @@ TEST(CliRaytrace, SmallRunWritesRowsSummaryAndSidecarAndARerunRendersNothing) {
   for (const auto& d : {a, b}) {
     for (const auto& e : fs::directory_iterator(d)) EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos);
   }
+}
+
+TEST(CliRaytrace, SixdofRunIsReproducibleAndRecordsEveryVariableAndCameraEffect) {
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray is not installed";
+  const fs::path a = scratch() / "sixdof-a", b = scratch() / "sixdof-b";
+  fs::remove_all(a);
+  fs::remove_all(b);
+  const std::string args = "sixdof --frames 4 --detectors tagbench,aruco ";
+  const Result first = run(args + common(a));
+  ASSERT_EQ(first.code, 0) << first.err;
+  const auto rows = lines(slurp(a / "sixdof.csv"));
+  ASSERT_EQ(rows.size(), 1u + 4 * 2);
+  for (const char* c : {"distance_m,phi_deg,tilt_axis_deg,roll_deg,image_x,image_y,black_square_px,halton_index,k1,k2,p1,"
+                        "p2,k3,defocus_sigma_px,noise_sigma,quantization_bits,detector,detected_right_id,wrong_id,",
+                        "corner_rms_px", "orientation_error_deg", "distance_error_m", ",ms,loss_stage,loss_bits"})
+    EXPECT_NE(rows[0].find(c), std::string::npos) << c;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i].rfind("sixdof,none,0,none,", 0), 0u) << rows[i];
+    EXPECT_NE(rows[i].find(",-0.2,0.05,0.001,-0.0005,0,"), std::string::npos) << rows[i];
+  }
+  const auto summary = lines(slurp(a / "sixdof_summary.csv"));
+  EXPECT_EQ(summary[0].rfind("experiment,variable,bin_lo,bin_hi,detector,frames,detected,detection_rate,rate_lo95,", 0), 0u);
+  const std::string json = slurp(a / "sixdof.json");
+  for (const char* k : {"\"experiment\": \"sixdof\"", "\"lens\": [-0.2, 0.05, 0.001, -5e-04, 0]", "Halton",
+                        "\"distortion\": [-0.2, 0.05, 0.001, -5e-04, 0]", "\"distance_range_m\": [0.5, 6]"})
+    EXPECT_NE(json.find(k), std::string::npos) << k;
+  // The same command again: the same rows and summary, timing aside.
+  const Result second = run(args + common(b));
+  ASSERT_EQ(second.code, 0) << second.err;
+  EXPECT_NE(second.err.find("0 rendered, 4 from the cache"), std::string::npos) << second.err;
+  EXPECT_EQ(without_ms(slurp(b / "sixdof.csv")), without_ms(slurp(a / "sixdof.csv")));
+  EXPECT_EQ(without_ms(slurp(b / "sixdof_summary.csv")), without_ms(slurp(a / "sixdof_summary.csv")));
 }
 
 // A POV-Ray that loses the first frame of its first run (and says so with exit status 1): the frame is

@@ -276,7 +276,7 @@ TEST(SweepPlan, ConditionsAtZeroStrengthAreThePlainFrames) {
 TEST(SweepEffects, NoiseBlurGradientAndDistortionDoWhatTheySay) {
   SweepFrame f = plan_sweep(settings(Experiment::kConditions, 1))[0];
   const cv::Mat grey(400, 400, CV_8UC1, cv::Scalar(128));
-  f.effect = {Condition::kNoise, 16, 99, 0};
+  f.effect = {Condition::kNoise, 16, 99, 0, std::nullopt};
   const cv::Mat noisy = apply_effect(grey, f);
   cv::Scalar mean, sd;
   cv::meanStdDev(noisy, mean, sd);
@@ -288,14 +288,14 @@ TEST(SweepEffects, NoiseBlurGradientAndDistortionDoWhatTheySay) {
 
   cv::Mat step(400, 400, CV_8UC1, cv::Scalar(0));
   step.colRange(200, 400).setTo(255);
-  f.effect = {Condition::kBlur, 2, 0, 0};
+  f.effect = {Condition::kBlur, 2, 0, 0, std::nullopt};
   const cv::Mat blurred = apply_effect(step, f);
   EXPECT_EQ(blurred.at<std::uint8_t>(200, 100), 0);
   EXPECT_NEAR(blurred.at<std::uint8_t>(200, 199), 255 * 0.40, 4);  // Phi(-0.25) for sigma 2, half a pixel off
   EXPECT_NEAR(blurred.at<std::uint8_t>(200, 200), 255 * 0.60, 4);
 
   const cv::Mat white(400, 400, CV_8UC1, cv::Scalar(200));
-  f.effect = {Condition::kGradient, 0.75, 0, 0};  // light falls off toward +x across the black square
+  f.effect = {Condition::kGradient, 0.75, 0, 0, std::nullopt};  // light falls off toward +x across the black square
   const cv::Mat lit = apply_effect(white, f);
   double lo_x = 1e9, hi_x = -1e9;
   for (const auto& c : f.truth.corners) {
@@ -309,14 +309,14 @@ TEST(SweepEffects, NoiseBlurGradientAndDistortionDoWhatTheySay) {
   // Distortion: a dot at an undistorted pixel appears where the forward model puts it.
   cv::Mat dot(400, 400, CV_8UC1, cv::Scalar(0));
   cv::circle(dot, cv::Point(330, 90), 3, cv::Scalar(255), cv::FILLED);
-  f.effect = {Condition::kDistortion, 0.3, 0, 0};
+  f.effect = {Condition::kDistortion, 0.3, 0, 0, std::nullopt};
   const cv::Mat warped = apply_effect(dot, f);
   const cv::Moments m = cv::moments(warped);
   const double x = (330 - 199.5) / 400, y = (90 - 199.5) / 400, k = 1 - 0.3 * (x * x + y * y);
   EXPECT_NEAR(m.m10 / m.m00, 199.5 + 400 * x * k, 0.1);
   EXPECT_NEAR(m.m01 / m.m00, 199.5 + 400 * y * k, 0.1);
   EXPECT_LT(m.m10 / m.m00, 329) << "barrel: toward the centre";
-  f.effect = {Condition::kDistortion, 0, 0, 0};
+  f.effect = {Condition::kDistortion, 0, 0, 0, std::nullopt};
   EXPECT_EQ(cv::norm(apply_effect(dot, f), dot, cv::NORM_INF), 0) << "zero strength: the frame itself";
 }
 
