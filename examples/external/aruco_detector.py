@@ -18,7 +18,9 @@ The conversions (bench/raytrace/comparators.hpp proves each on ray-traced frames
 
 Usage, e.g.:
   tagbench raytrace angle --detectors "aruco,external:aruco-py=/usr/bin/python3 examples/external/aruco_detector.py --camera 400,400,199.5,199.5 --tag-size 0.166"
-Options: --family 36h11|36h10|25h9|16h5 (default 36h11), --camera fx,fy,cx,cy with --tag-size M (pose)."""
+Options: --family 36h11|36h10|25h9|16h5 (default 36h11), --camera fx,fy,cx,cy with --tag-size M (pose),
+--distortion k1,k2,p1,p2,k3 (OpenCV's model, given to solvePnP as the built-in comparator does under
+the distortion condition and in the sixdof sweep; needs --camera)."""
 import json
 import sys
 import time
@@ -32,19 +34,26 @@ FLIP = np.diag([-1.0, 1.0, -1.0])
 
 
 def options(argv):
-    opts = {"family": "36h11", "camera": None, "tag_size": None}
+    opts = {"family": "36h11", "camera": None, "tag_size": None, "distortion": None}
     i = 0
     while i < len(argv):
-        if argv[i] not in ("--family", "--camera", "--tag-size") or i + 1 >= len(argv):
+        if argv[i] not in ("--family", "--camera", "--tag-size", "--distortion") or i + 1 >= len(argv):
             sys.exit(f"aruco_detector.py: unknown option or missing value: {argv[i]}")
         key, value = argv[i][2:].replace("-", "_"), argv[i + 1]
-        opts[key] = [float(v) for v in value.split(",")] if key == "camera" else (
-            float(value) if key == "tag_size" else value)
+        try:
+            opts[key] = [float(v) for v in value.split(",")] if key in ("camera", "distortion") else (
+                float(value) if key == "tag_size" else value)
+        except ValueError:
+            sys.exit(f"aruco_detector.py: {argv[i]} {value}: not a number or list of numbers")
         i += 2
     if opts["family"] not in DICTS:
         sys.exit(f"aruco_detector.py: --family {opts['family']}: one of {', '.join(DICTS)}")
     if (opts["camera"] is None) != (opts["tag_size"] is None):
         sys.exit("aruco_detector.py: --camera and --tag-size go together")
+    if opts["camera"] is not None and len(opts["camera"]) != 4:
+        sys.exit("aruco_detector.py: --camera wants fx,fy,cx,cy")
+    if opts["distortion"] is not None and (opts["camera"] is None or len(opts["distortion"]) != 5):
+        sys.exit("aruco_detector.py: --distortion wants k1,k2,p1,p2,k3 and --camera")
     return opts
 
 
@@ -55,6 +64,7 @@ def main():
     params = cv2.aruco.DetectorParameters_create()
     params.cornerRefinementMethod = cv2.aruco.CORNER_REFINE_APRILTAG
     camera = None
+    dist = None if opts["distortion"] is None else np.array(opts["distortion"], dtype=np.float64).reshape(1, 5)
     if opts["camera"]:
         fx, fy, cx, cy = opts["camera"]
         camera = np.array([[fx, 0, cx], [0, fy, cy], [0, 0, 1]], dtype=np.float64)
@@ -77,7 +87,7 @@ def main():
             det = {"family": opts["family"], "id": int(ids[k][0]),
                    "corners": [[float(x), float(y)] for x, y in (centred[(j + 2) % 4] for j in range(4))]}
             if camera is not None:
-                ok, rvec, tvec = cv2.solvePnP(obj, centred, camera, None, flags=cv2.SOLVEPNP_IPPE_SQUARE)
+                ok, rvec, tvec = cv2.solvePnP(obj, centred, camera, dist, flags=cv2.SOLVEPNP_IPPE_SQUARE)
                 if ok:
                     rot, _ = cv2.Rodrigues(rvec)
                     r = rot @ FLIP

@@ -104,6 +104,25 @@ TEST(CliExternal, TheExampleArucoAdapterGivesTheBuiltInArucoRows) {
   EXPECT_EQ(rows_of(csv, "aruco-py"), rows_of(csv, "aruco"));
 }
 
+TEST(CliExternal, TheExampleArucoAdapterGivenTheLensGivesTheBuiltInArucoRowsOnTheSixdofSweep) {
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray not installed";
+  if (std::system("/usr/bin/python3 -c 'import cv2' 2>/dev/null") != 0)
+    GTEST_SKIP() << "python3-opencv not installed (scripts/install-deps.sh installs it)";
+  tagbench::testing::ScratchDir dir("tagbench_cli_external");
+  const std::string adapter = std::string(TAGBENCH_SOURCE_DIR) + "/examples/external/aruco_detector.py";
+  const std::string list = "aruco,external:aruco-py=/usr/bin/python3 " + adapter +
+                           " --camera 400,400,199.5,199.5 --tag-size 0.166 --distortion -0.2,0.05,0.001,-0.0005,0";
+  const CommandResult r = run_tagbench("raytrace sixdof --frames 5 --distance-range 0.5,2 --processes 1 --cache " +
+                                           tagbench::bench::test::shared_cache().string() + " --detectors " +
+                                           shell_quote(list) + " --out " + (dir / "o").string(),
+                                       dir.path());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = slurp(dir / "o" / "sixdof.csv");
+  EXPECT_EQ(rows_of(csv, "aruco-py").size(), 5u);
+  EXPECT_EQ(rows_of(csv, "aruco-py"), rows_of(csv, "aruco"));
+  EXPECT_NE(csv.find(",aruco,1,"), std::string::npos) << "some frame detected: the comparison means something";
+}
+
 TEST(CliExternal, AFailingExternalDetectorIsOneLineAndWritesNothing) {
   if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray not installed";
   tagbench::testing::ScratchDir dir("tagbench_cli_external");
