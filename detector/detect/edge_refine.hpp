@@ -58,12 +58,17 @@ struct EdgeRefineOptions {
   int cells_across = 8;               // cells across the black square (d + 2; 36h11: 8): the cell size sets the range
 };
 
-// Buffers kept from one quad to the next (storage only grows): the located edge points of a side and
-// one scan's samples.
+// Buffers kept from one quad to the next (storage only grows): the located edge points of a side,
+// the scan's steps and one scan's samples.
 struct EdgeRefineScratch {
-  std::vector<Eigen::Vector3d> points;  // (x, y, weight) of one side
-  std::vector<double> offset;                // per scan step: the offset s + derivative_half_px sampled ...
-  std::vector<std::optional<float>> value;  // ... and the intensity there (nullopt outside the image)
+  struct Step {
+    double s, hi, lo;  // offset along the normal and the two offsets the derivative samples (s +- h)
+    int lo_from;       // the earlier step whose `hi` equals this `lo` (its sample is reused), or -1
+  };
+  std::vector<Eigen::Vector3d> points;       // (x, y, weight) of one side
+  std::vector<Step> steps;                   // the scan of the current side, the same at every point
+  std::vector<float> value;                  // per step: the intensity at `hi` (scan inside the image) ...
+  std::vector<std::optional<float>> value_or_none;  // ... or nullopt outside it (scan crossing the border)
 };
 
 // The quad's corners (clockwise on screen, as quad_search gives them) refined on `img`; nullopt when
