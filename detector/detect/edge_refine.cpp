@@ -62,8 +62,21 @@ bool convex_same_winding(const Corners& a, const Corners& b) {
 namespace {
 
 // One pass: every side re-located around the lines through `c`.
-std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const EdgeRefineOptions& opt) {
+std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const EdgeRefineOptions& opt,
+                                   EdgeRefineScratch& scratch) {
   const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+  // A scan samples I at s + h and at s - h for every step s; s - h of step j is s + h of step j - m
+  // (m = 2 h / step) when the two offsets are equal as doubles, as they are when the steps add
+  // exactly (0.25 px steps from a range under 4 px do): that sample is then reused, not taken again.
+  // The comparison keeps the result identical to sampling both every time.
+  const int m = static_cast<int>(std::lround(2 * opt.derivative_half_px / opt.step_px));
+  const double h = opt.derivative_half_px;
+  const auto gradient = [&](float hi, float lo) -> double {
+    return opt.gamma == 1.0 ? hi - lo : std::pow(std::max(0.0f, hi), opt.gamma) - std::pow(std::max(0.0f, lo), opt.gamma);
+  };
+  const auto inside = [&](const Eigen::Vector2d& q) {  // sample_bilinear's domain
+    return q.x() >= 0 && q.y() >= 0 && q.x() <= img.width - 1 && q.y() <= img.height - 1;
+  };
   std::array<Line, 4> lines;
   for (std::size_t i = 0; i < 4; ++i) {
     const Eigen::Vector2d a = c[i], b = c[(i + 1) % 4];
@@ -76,20 +89,54 @@ std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const Ed
     const double range =
         std::clamp(opt.range_cell_fraction * len / opt.cells_across, opt.min_range_px, opt.max_range_px);
     const int samples = std::max(opt.min_samples, static_cast<int>(std::lround(len / opt.sample_spacing_px)));
-    std::vector<Eigen::Vector3d> pts;
+    // The side's scan steps, and the smallest and largest offset sampled.
+    auto& steps = scratch.steps;
+    steps.clear();
+    double lo_end = HUGE_VAL, hi_end = -HUGE_VAL;
+    for (double s = -range; s <= range + 1e-9; s += opt.step_px) {
+      EdgeRefineScratch::Step st{s, s + h, s - h, -1};
+      const std::size_t j = steps.size();
+      if (m >= 1 && j >= static_cast<std::size_t>(m) && steps[j - static_cast<std::size_t>(m)].hi == st.lo)
+        st.lo_from = static_cast<int>(j) - m;
+      lo_end = std::min({lo_end, st.lo, st.hi});
+      hi_end = std::max({hi_end, st.lo, st.hi});
+      steps.push_back(st);
+    }
+    scratch.value.resize(steps.size());
+    scratch.value_or_none.resize(steps.size());
+    std::vector<Eigen::Vector3d>& pts = scratch.points;
+    pts.clear();
     for (int k = 0; k < samples; ++k) {
       const double t = opt.end_margin + (1 - 2 * opt.end_margin) * (k + 0.5) / samples;
       const Eigen::Vector2d p = a + t * (b - a);
       double sw = 0, sws = 0;
-      for (double s = -range; s <= range + 1e-9; s += opt.step_px) {
-        const auto hi = sample_bilinear(img, p + (s + opt.derivative_half_px) * n);
-        const auto lo = sample_bilinear(img, p + (s - opt.derivative_half_px) * n);
-        if (!hi || !lo) continue;
-        const double g = opt.gamma == 1.0 ? *hi - *lo
-                                          : std::pow(std::max(0.0f, *hi), opt.gamma) - std::pow(std::max(0.0f, *lo), opt.gamma);
-        if (g <= 0) continue;
-        sw += g * g;
-        sws += g * g * s;
+      // p + u n is monotone in u coordinate by coordinate (in floating point too), so when the two
+      // ends of the scan are inside the image every sample is: no per-sample test.
+      if (!img.empty() && inside(p + lo_end * n) && inside(p + hi_end * n)) {
+        float* value = scratch.value.data();
+        for (std::size_t j = 0; j < steps.size(); ++j) {
+          const EdgeRefineScratch::Step& st = steps[j];
+          const float hi = sample_bilinear_inside(img, p + st.hi * n);
+          value[j] = hi;
+          const float lo = st.lo_from >= 0 ? value[st.lo_from] : sample_bilinear_inside(img, p + st.lo * n);
+          const double g = gradient(hi, lo);
+          if (g <= 0) continue;
+          sw += g * g;
+          sws += g * g * st.s;
+        }
+      } else {
+        std::optional<float>* value = scratch.value_or_none.data();
+        for (std::size_t j = 0; j < steps.size(); ++j) {
+          const EdgeRefineScratch::Step& st = steps[j];
+          const auto hi = sample_bilinear(img, p + st.hi * n);
+          value[j] = hi;
+          const auto lo = st.lo_from >= 0 ? value[st.lo_from] : sample_bilinear(img, p + st.lo * n);
+          if (!hi || !lo) continue;
+          const double g = gradient(*hi, *lo);
+          if (g <= 0) continue;
+          sw += g * g;
+          sws += g * g * st.s;
+        }
       }
       if (sw > 0) pts.emplace_back(p.x() + sws / sw * n.x(), p.y() + sws / sw * n.y(), sw);
     }
@@ -107,12 +154,18 @@ std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const Ed
 }  // namespace
 
 std::optional<Corners> refine_quad_edges(const ImageF& img, const Corners& c, const EdgeRefineOptions& opt) {
+  EdgeRefineScratch scratch;
+  return refine_quad_edges(img, c, opt, scratch);
+}
+
+std::optional<Corners> refine_quad_edges(const ImageF& img, const Corners& c, const EdgeRefineOptions& opt,
+                                         EdgeRefineScratch& scratch) {
   if (img.empty() || opt.cells_across < 1 || !(opt.step_px > 0) || !(opt.derivative_half_px > 0)) return std::nullopt;
   for (const auto& p : c)
     if (!p.allFinite()) return std::nullopt;
   Corners cur = c;
   for (int it = 0; it < std::max(1, opt.iterations); ++it) {
-    const auto next = refine_once(img, cur, opt);
+    const auto next = refine_once(img, cur, opt, scratch);
     if (!next) return std::nullopt;
     cur = *next;
     for (std::size_t i = 0; i < 4; ++i)

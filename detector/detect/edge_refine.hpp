@@ -27,6 +27,9 @@
 // rejected (nullopt) when a corner would move by more than `max_corner_shift_px` or the new quad is
 // not convex, so a caller keeps the quad it had.
 #include <optional>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "homography.hpp"
 #include "image.hpp"
@@ -55,8 +58,24 @@ struct EdgeRefineOptions {
   int cells_across = 8;               // cells across the black square (d + 2; 36h11: 8): the cell size sets the range
 };
 
+// Buffers kept from one quad to the next (storage only grows): the located edge points of a side,
+// the scan's steps and one scan's samples.
+struct EdgeRefineScratch {
+  struct Step {
+    double s, hi, lo;  // offset along the normal and the two offsets the derivative samples (s +- h)
+    int lo_from;       // the earlier step whose `hi` equals this `lo` (its sample is reused), or -1
+  };
+  std::vector<Eigen::Vector3d> points;       // (x, y, weight) of one side
+  std::vector<Step> steps;                   // the scan of the current side, the same at every point
+  std::vector<float> value;                  // per step: the intensity at `hi` (scan inside the image) ...
+  std::vector<std::optional<float>> value_or_none;  // ... or nullopt outside it (scan crossing the border)
+};
+
 // The quad's corners (clockwise on screen, as quad_search gives them) refined on `img`; nullopt when
 // the refinement is rejected (see above).
 std::optional<Corners> refine_quad_edges(const ImageF& img, const Corners& corners, const EdgeRefineOptions& opt = {});
+// The same with caller-owned buffers (no allocation once they have grown); identical results.
+std::optional<Corners> refine_quad_edges(const ImageF& img, const Corners& corners, const EdgeRefineOptions& opt,
+                                         EdgeRefineScratch& scratch);
 
 }  // namespace tagbench

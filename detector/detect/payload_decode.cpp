@@ -53,18 +53,6 @@ bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector
   return good >= 3;
 }
 
-std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vector2d& p) {
-  if (img.empty() || !(p.x() >= 0) || !(p.y() >= 0) || p.x() > img.width - 1 || p.y() > img.height - 1)
-    return std::nullopt;
-  const int x0 = std::min(static_cast<int>(p.x()), std::max(0, img.width - 2));
-  const int y0 = std::min(static_cast<int>(p.y()), std::max(0, img.height - 2));
-  const int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
-  const double fx = p.x() - x0, fy = p.y() - y0;
-  const double top = img.at(x0, y0) * (1 - fx) + img.at(x1, y0) * fx;
-  const double bot = img.at(x0, y1) * (1 - fx) + img.at(x1, y1) * fx;
-  return static_cast<float>(top * (1 - fy) + bot * fy);
-}
-
 std::optional<PayloadReading> read_payload(const ImageF& img, const Eigen::Matrix3d& H, int d,
                                            const PayloadOptions& opt, bool keep_points) {
   if (d < 1 || d > kMaxPayloadWidth) return std::nullopt;

@@ -11,6 +11,7 @@
 // Intensities are bilinear samples of the decoding image (pixel centres at integer coordinates).
 // The bits come out in AprilTag 1 order as seen through the quad: the MSB is the cell nearest the
 // quad's first corner; the decoder's rotation then says which corner is the printed top-left.
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <vector>
@@ -47,8 +48,24 @@ struct PayloadReading {
 bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector2d, 4>& corners, int d,
                                double min_contrast);
 
+// Bilinear intensity at a sub-pixel point p inside [0, w-1] x [0, h-1] of a non-empty image (the
+// caller has checked). Inline: edge refinement (edge_refine.hpp) takes thousands per quad.
+inline float sample_bilinear_inside(const ImageF& img, const Eigen::Vector2d& p) {
+  const int x0 = std::min(static_cast<int>(p.x()), std::max(0, img.width - 2));
+  const int y0 = std::min(static_cast<int>(p.y()), std::max(0, img.height - 2));
+  const int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
+  const double fx = p.x() - x0, fy = p.y() - y0;
+  const double top = img.at(x0, y0) * (1 - fx) + img.at(x1, y0) * fx;
+  const double bot = img.at(x0, y1) * (1 - fx) + img.at(x1, y1) * fx;
+  return static_cast<float>(top * (1 - fy) + bot * fy);
+}
+
 // Bilinear intensity at a sub-pixel point; nullopt outside [0, w-1] x [0, h-1].
-std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vector2d& p);
+inline std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vector2d& p) {
+  if (img.empty() || !(p.x() >= 0) || !(p.y() >= 0) || p.x() > img.width - 1 || p.y() > img.height - 1)
+    return std::nullopt;
+  return sample_bilinear_inside(img, p);
+}
 
 // Reads a d x d payload (1 <= d <= kMaxPayloadWidth) through the homography H (tag square
 // [-1,1]^2 -> image). nullopt when a payload cell falls outside the image, when the border gives

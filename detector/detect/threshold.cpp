@@ -7,54 +7,83 @@
 namespace tagbench {
 namespace {
 
-// 3-tap running min and max along one axis of a tw x th grid (clamped ends: the edge tile only sees
-// its inner neighbour). stride 1 filters rows, stride tw filters columns.
-void minmax3(const std::vector<float>& in_min, const std::vector<float>& in_max, std::vector<float>& out_min,
-             std::vector<float>& out_max, int tw, int th, bool along_x) {
-  for (int ty = 0; ty < th; ++ty)
-    for (int tx = 0; tx < tw; ++tx) {
-      const std::size_t i = static_cast<std::size_t>(ty) * static_cast<std::size_t>(tw) + static_cast<std::size_t>(tx);
-      float mn = in_min[i], mx = in_max[i];
-      const int pos = along_x ? tx : ty, n = along_x ? tw : th;
-      const std::size_t step = along_x ? 1 : static_cast<std::size_t>(tw);
-      if (pos > 0) {
-        mn = std::min(mn, in_min[i - step]);
-        mx = std::max(mx, in_max[i - step]);
+// Tile min / max of one tile row: rows [y0, y1) of the image, tiles of t columns (the last one may
+// be partial). The first row initialises, the others merge; T > 0 is t known at compile time, so
+// the inner loops unroll and the merge vectorises.
+template <int T>
+void tile_row_minmax(const ImageF& img, int y0, int y1, int t_rt, float* tmin, float* tmax) {
+  const int t = T > 0 ? T : t_rt;
+  const int w = img.width, full = w / t;
+  for (int y = y0; y < y1; ++y) {
+    const float* row = img.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    const bool first = y == y0;
+    for (int tx = 0; tx < full; ++tx) {
+      const float* p = row + tx * t;
+      float mn = p[0], mx = p[0];
+      for (int i = 1; i < t; ++i) {
+        mn = std::min(mn, p[i]);
+        mx = std::max(mx, p[i]);
       }
-      if (pos + 1 < n) {
-        mn = std::min(mn, in_min[i + step]);
-        mx = std::max(mx, in_max[i + step]);
-      }
-      out_min[i] = mn;
-      out_max[i] = mx;
+      tmin[tx] = first ? mn : std::min(tmin[tx], mn);
+      tmax[tx] = first ? mx : std::max(tmax[tx], mx);
     }
+    if (full * t < w) {  // the partial last tile
+      float mn = row[full * t], mx = mn;
+      for (int x = full * t + 1; x < w; ++x) {
+        mn = std::min(mn, row[x]);
+        mx = std::max(mx, row[x]);
+      }
+      tmin[full] = first ? mn : std::min(tmin[full], mn);
+      tmax[full] = first ? mx : std::max(tmax[full], mx);
+    }
+  }
 }
 
-// Min and max of each tile's share of one row, merged into tmin / tmax. T > 0: the tile size known
-// at compile time; T == 0: `t` at run time.
+// 3-tap min and max along each row of a tw x th grid (the edge tiles only see their inner
+// neighbour): the ends apart, so the middle loop is branch-free.
+void minmax3_rows(const float* in_min, const float* in_max, float* out_min, float* out_max, int tw, int th) {
+  for (int ty = 0; ty < th; ++ty) {
+    const std::size_t o = static_cast<std::size_t>(ty) * static_cast<std::size_t>(tw);
+    const float *a = in_min + o, *b = in_max + o;
+    float *c = out_min + o, *d = out_max + o;
+    if (tw == 1) {
+      c[0] = a[0];
+      d[0] = b[0];
+      continue;
+    }
+    c[0] = std::min(a[0], a[1]);
+    d[0] = std::max(b[0], b[1]);
+    for (int x = 1; x + 1 < tw; ++x) {
+      c[x] = std::min(std::min(a[x - 1], a[x]), a[x + 1]);
+      d[x] = std::max(std::max(b[x - 1], b[x]), b[x + 1]);
+    }
+    c[tw - 1] = std::min(a[tw - 2], a[tw - 1]);
+    d[tw - 1] = std::max(b[tw - 2], b[tw - 1]);
+  }
+}
+
+// The same along the columns: whole tile rows at a time (contiguous, vectorised).
+void minmax3_cols(const float* in_min, const float* in_max, float* out_min, float* out_max, int tw, int th) {
+  const std::size_t n = static_cast<std::size_t>(tw);
+  for (int ty = 0; ty < th; ++ty) {
+    const std::size_t o = static_cast<std::size_t>(ty) * n;
+    const std::size_t up = ty > 0 ? o - n : o, down = ty + 1 < th ? o + n : o;  // clamped: the tile itself
+    for (std::size_t x = 0; x < n; ++x) {
+      out_min[o + x] = std::min(std::min(in_min[up + x], in_min[o + x]), in_min[down + x]);
+      out_max[o + x] = std::max(std::max(in_max[up + x], in_max[o + x]), in_max[down + x]);
+    }
+  }
+}
+
+// Each tile's value copied to its t columns (T > 0: t at compile time).
 template <int T>
-void row_minmax(const float* row, int w, float* tmin, float* tmax, int t = T) {
-  const int size = T > 0 ? T : t;
-  const int full = w / size;
-  for (int tx = 0; tx < full; ++tx) {
-    const float* p = row + tx * size;
-    float mn = tmin[tx], mx = tmax[tx];
-    for (int i = 0; i < size; ++i) {
-      mn = std::min(mn, p[i]);
-      mx = std::max(mx, p[i]);
+void spread(const float* tmid, const std::uint8_t* tflat, int tw, int t_rt, float* mid, std::uint8_t* flat) {
+  const int t = T > 0 ? T : t_rt;
+  for (int tx = 0; tx < tw; ++tx)
+    for (int i = 0; i < t; ++i) {
+      mid[tx * t + i] = tmid[tx];
+      flat[tx * t + i] = tflat[tx];
     }
-    tmin[tx] = mn;
-    tmax[tx] = mx;
-  }
-  if (full * size < w) {  // the partial last tile
-    float mn = tmin[full], mx = tmax[full];
-    for (int x = full * size; x < w; ++x) {
-      mn = std::min(mn, row[x]);
-      mx = std::max(mx, row[x]);
-    }
-    tmin[full] = mn;
-    tmax[full] = mx;
-  }
 }
 
 }  // namespace
@@ -70,50 +99,62 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
   if (img.empty()) return;
   const int tw = (w + t - 1) / t, th = (h + t - 1) / t;
   const std::size_t nt = static_cast<std::size_t>(tw) * static_cast<std::size_t>(th);
-  s.tile_min.assign(nt, 2.0f);
-  s.tile_max.assign(nt, -1.0f);
+  s.tile_min.resize(nt);
+  s.tile_max.resize(nt);
   s.tmp_min.resize(nt);
   s.tmp_max.resize(nt);
 
-  // 1. Tile min / max, one image row at a time (sequential reads; the common tile sizes get loops
-  // the compiler unrolls).
-  for (int y = 0; y < h; ++y) {
-    const float* row = img.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
-    float* tmin = s.tile_min.data() + static_cast<std::size_t>(y / t) * static_cast<std::size_t>(tw);
-    float* tmax = s.tile_max.data() + static_cast<std::size_t>(y / t) * static_cast<std::size_t>(tw);
+  // 1. Tile min / max, a tile row at a time (sequential reads).
+  for (int ty = 0; ty < th; ++ty) {
+    const int y0 = ty * t, y1 = std::min(h, y0 + t);
+    float* tmin = s.tile_min.data() + static_cast<std::size_t>(ty) * static_cast<std::size_t>(tw);
+    float* tmax = s.tile_max.data() + static_cast<std::size_t>(ty) * static_cast<std::size_t>(tw);
     switch (t) {
-      case 2: row_minmax<2>(row, w, tmin, tmax); break;
-      case 3: row_minmax<3>(row, w, tmin, tmax); break;
-      case 4: row_minmax<4>(row, w, tmin, tmax); break;
-      default: row_minmax<0>(row, w, tmin, tmax, t); break;
+      case 2: tile_row_minmax<2>(img, y0, y1, t, tmin, tmax); break;
+      case 3: tile_row_minmax<3>(img, y0, y1, t, tmin, tmax); break;
+      case 4: tile_row_minmax<4>(img, y0, y1, t, tmin, tmax); break;
+      default: tile_row_minmax<0>(img, y0, y1, t, tmin, tmax); break;
     }
   }
   // 2. Widen to the 3 x 3 tiles around each tile (separable).
-  minmax3(s.tile_min, s.tile_max, s.tmp_min, s.tmp_max, tw, th, true);
-  minmax3(s.tmp_min, s.tmp_max, s.tile_min, s.tile_max, tw, th, false);
+  minmax3_rows(s.tile_min.data(), s.tile_max.data(), s.tmp_min.data(), s.tmp_max.data(), tw, th);
+  minmax3_cols(s.tmp_min.data(), s.tmp_max.data(), s.tile_min.data(), s.tile_max.data(), tw, th);
 
-  // 3. Class each pixel against its tile's midpoint: per tile row, the midpoint of every column is
-  // spread out once (a flat tile gets a midpoint above any intensity and is marked in `flat`), so the
-  // per-pixel loop is branch-free.
-  s.mid.resize(static_cast<std::size_t>(w));
-  s.flat.resize(static_cast<std::size_t>(w));
-  for (int y = 0; y < h; ++y) {
-    if (y % t == 0) {
-      const std::size_t trow = static_cast<std::size_t>(y / t) * static_cast<std::size_t>(tw);
-      for (int x = 0; x < w; ++x) {
-        const float mn = s.tile_min[trow + static_cast<std::size_t>(x / t)], mx = s.tile_max[trow + static_cast<std::size_t>(x / t)];
-        const bool flat = mx - mn < opt.min_contrast;
-        s.flat[static_cast<std::size_t>(x)] = flat ? kTernaryUnknown : 0;
-        s.mid[static_cast<std::size_t>(x)] = mn + 0.5f * (mx - mn);
-      }
+  // 3. Class each pixel against its tile's midpoint: per tile row, every tile's midpoint and flatness
+  // (0xFF where max - min < min_contrast) are computed, then spread out to the tile's columns once,
+  // so the per-pixel loop is branch-free and vectorises.
+  s.mid.resize(static_cast<std::size_t>(tw) * static_cast<std::size_t>(t));
+  s.flat.resize(s.mid.size());
+  s.tile_mid.resize(static_cast<std::size_t>(tw));
+  s.tile_flat.resize(static_cast<std::size_t>(tw));
+  float* mid = s.mid.data();
+  std::uint8_t* flat = s.flat.data();
+  for (int ty = 0; ty < th; ++ty) {
+    const std::size_t trow = static_cast<std::size_t>(ty) * static_cast<std::size_t>(tw);
+    const float* tmin = s.tile_min.data() + trow;
+    const float* tmax = s.tile_max.data() + trow;
+    float* tmid = s.tile_mid.data();
+    std::uint8_t* tflat = s.tile_flat.data();
+    const float min_contrast = opt.min_contrast;
+    for (int tx = 0; tx < tw; ++tx) {
+      const float mn = tmin[tx], mx = tmax[tx];
+      tflat[tx] = mx - mn < min_contrast ? 0xFF : 0;
+      tmid[tx] = mn + 0.5f * (mx - mn);
     }
-    const float* row = img.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
-    std::uint8_t* o = out.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
-    const float* mid = s.mid.data();
-    const std::uint8_t* flat = s.flat.data();
-    for (int x = 0; x < w; ++x) {
-      const std::uint8_t cls = row[x] > mid[x] ? kTernaryLight : kTernaryDark;
-      o[x] = flat[x] ? kTernaryUnknown : cls;
+    switch (t) {  // columns past the image's last one (a partial last tile) are filled but never read
+      case 2: spread<2>(tmid, tflat, tw, t, mid, flat); break;
+      case 3: spread<3>(tmid, tflat, tw, t, mid, flat); break;
+      case 4: spread<4>(tmid, tflat, tw, t, mid, flat); break;
+      default: spread<0>(tmid, tflat, tw, t, mid, flat); break;
+    }
+    for (int y = ty * t, ye = std::min(h, y + t); y < ye; ++y) {
+      const float* row = img.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+      std::uint8_t* o = out.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+      for (int x = 0; x < w; ++x) {
+        // Light 255, dark 0; a flat column's 0xFF mask turns either into 127 (kTernaryUnknown).
+        const std::uint8_t cls = row[x] > mid[x] ? kTernaryLight : kTernaryDark;
+        o[x] = static_cast<std::uint8_t>((cls & ~flat[x]) | (kTernaryUnknown & flat[x]));
+      }
     }
   }
 }

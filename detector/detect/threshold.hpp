@@ -43,8 +43,8 @@ struct TernaryImage {
 // Per-tile statistics, kept between frames (their storage only grows).
 struct ThresholdScratch {
   std::vector<float> tile_min, tile_max, tmp_min, tmp_max;
-  std::vector<float> mid;           // per column of the current tile row: the threshold
-  std::vector<std::uint8_t> flat;   // per column: kTernaryUnknown where the tile is flat, else 0
+  std::vector<float> tile_mid, mid;             // per tile, per column of the current tile row: the threshold
+  std::vector<std::uint8_t> tile_flat, flat;    // per tile, per column: 0xFF where the tile is flat, else 0
 };
 
 // Classes every pixel of `img` into `out` (resized; storage reused). Throws std::invalid_argument

@@ -43,7 +43,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
     EdgeRefineOptions r = opt.refine;
     if (halve) r.min_range_px = std::max(r.min_range_px, 2.0);
     for (Quad& q : out)
-      if (const auto c = refine_quad_edges(img, q.corners, r)) q.corners = *c;
+      if (const auto c = refine_quad_edges(img, q.corners, r, ws.refine)) q.corners = *c;
   }
   st.ms_refine = lap_ms(t);
   st.components = ws.components.count;

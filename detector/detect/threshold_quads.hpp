@@ -44,6 +44,7 @@ struct ThresholdQuadWorkspace {
   BoundaryScratch boundary_scratch;
   BoundaryGroups groups;
   QuadFitScratch fit;
+  EdgeRefineScratch refine;
 };
 
 struct ThresholdQuadStats {

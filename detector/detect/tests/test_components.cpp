@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <queue>
+#include <random>
+
 #include "detect/components.hpp"
 
 using namespace tagbench;
@@ -56,4 +60,67 @@ TEST(Components, LightLeaksThroughADiagonalGapOfTheDarkWall) {
   const Components c = connected_components(t);
   EXPECT_EQ(lab(c, 1, 0), lab(c, 0, 1));  // light 8-connected across the diagonal wall
   EXPECT_NE(lab(c, 0, 0), lab(c, 1, 1));
+}
+
+// Against a breadth-first flood fill, on random images of runs 1-40 px long (so the runs' ends are
+// found both in the 8-byte steps and in the byte-wise tail): the same partition into components,
+// unknown pixels in none, and the sizes.
+TEST(Components, EqualsAFloodFillOnRandomImages) {
+  std::mt19937 rng(5);
+  for (const int w : {1, 7, 8, 9, 53, 130})
+    for (int trial = 0; trial < 4; ++trial) {
+      const int h = 1 + static_cast<int>(rng() % 40);
+      TernaryImage t;
+      t.width = w;
+      t.height = h;
+      const std::uint8_t values[3] = {kTernaryDark, kTernaryLight, kTernaryUnknown};
+      while (t.data.size() < static_cast<std::size_t>(w * h)) {
+        const std::uint8_t v = values[rng() % 3];
+        for (int n = 1 + static_cast<int>(rng() % 40); n > 0 && t.data.size() < static_cast<std::size_t>(w * h); --n)
+          t.data.push_back(v);
+      }
+      const Components c = connected_components(t);
+      std::vector<int> bfs(t.data.size(), -1), bfs_size;
+      for (int start = 0; start < w * h; ++start) {
+        if (bfs[static_cast<std::size_t>(start)] >= 0 || t.data[static_cast<std::size_t>(start)] == kTernaryUnknown) continue;
+        const int id = static_cast<int>(bfs_size.size());
+        const std::uint8_t v = t.data[static_cast<std::size_t>(start)];
+        const int reach = v == kTernaryLight ? 1 : 0;  // light also steps diagonally
+        std::queue<int> q;
+        q.push(start);
+        bfs[static_cast<std::size_t>(start)] = id;
+        int n = 0;
+        while (!q.empty()) {
+          const int p = q.front();
+          q.pop();
+          ++n;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              if ((dx != 0 && dy != 0 && !reach) || (dx == 0 && dy == 0)) continue;
+              const int x = p % w + dx, y = p / w + dy;
+              if (x < 0 || y < 0 || x >= w || y >= h) continue;
+              const auto i = static_cast<std::size_t>(y * w + x);
+              if (bfs[i] < 0 && t.data[i] == v) {
+                bfs[i] = id;
+                q.push(static_cast<int>(i));
+              }
+            }
+        }
+        bfs_size.push_back(n);
+      }
+      ASSERT_EQ(c.count, bfs_size.size());
+      std::vector<std::uint32_t> label_of(bfs_size.size(), kNoComponent);
+      for (std::size_t i = 0; i < t.data.size(); ++i) {
+        if (bfs[i] < 0) {
+          ASSERT_EQ(c.label[i], kNoComponent);
+          continue;
+        }
+        auto& l = label_of[static_cast<std::size_t>(bfs[i])];
+        if (l == kNoComponent) l = c.label[i];
+        ASSERT_EQ(c.label[i], l) << "w " << w << " pixel " << i;
+        ASSERT_EQ(c.size[l], static_cast<std::uint32_t>(bfs_size[static_cast<std::size_t>(bfs[i])]));
+      }
+      std::sort(label_of.begin(), label_of.end());
+      EXPECT_EQ(std::adjacent_find(label_of.begin(), label_of.end()), label_of.end());  // distinct ids
+    }
 }

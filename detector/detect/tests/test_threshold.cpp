@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <stdexcept>
 
 #include "detect/threshold.hpp"
@@ -79,4 +81,41 @@ TEST(Threshold, ScratchReuseGivesTheSameResultWithoutReallocating) {
   EXPECT_EQ(s.tile_min.data(), q);
   adaptive_threshold(img, {}, s, b);
   EXPECT_EQ(a.data, b.data);
+}
+
+// The tile pipeline (tile min / max, 3 x 3 tile widening, per-column midpoints) against the
+// definition, pixel by pixel: min and max over the pixels of the 3 x 3 tiles around the pixel's
+// tile, flat below min_contrast, light above the midpoint. Odd sizes, partial tiles, every tile size
+// the stage specialises and others, one-tile-wide and one-row images.
+TEST(Threshold, EqualsThePerPixelDefinitionOnRandomImages) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const int sizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {2, 3}, {37, 23}, {64, 48}, {101, 7}};
+  for (const auto& wh : sizes)
+    for (const int t : {1, 2, 3, 4, 5, 8}) {
+      const int w = wh[0], h = wh[1];
+      ImageF img(w, h);
+      // Blocks of random grey plus noise, so some tiles are flat and some are not.
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) img.at(x, y) = ((x / 5 + y / 3) % 3 == 0) ? 0.5f + 0.01f * u(rng) : u(rng);
+      ThresholdOptions opt;
+      opt.tile_size = t;
+      const TernaryImage got = adaptive_threshold(img, opt);
+      const int tw = (w + t - 1) / t, th = (h + t - 1) / t;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          float mn = 2, mx = -1;
+          for (int ty = std::max(0, y / t - 1); ty <= std::min(th - 1, y / t + 1); ++ty)
+            for (int tx = std::max(0, x / t - 1); tx <= std::min(tw - 1, x / t + 1); ++tx)
+              for (int yy = ty * t; yy < std::min(h, ty * t + t); ++yy)
+                for (int xx = tx * t; xx < std::min(w, tx * t + t); ++xx) {
+                  mn = std::min(mn, img.at(xx, yy));
+                  mx = std::max(mx, img.at(xx, yy));
+                }
+          const std::uint8_t want = mx - mn < opt.min_contrast ? kTernaryUnknown
+                                    : img.at(x, y) > mn + 0.5f * (mx - mn) ? kTernaryLight
+                                                                           : kTernaryDark;
+          ASSERT_EQ(got.at(x, y), want) << w << "x" << h << " tile " << t << " at " << x << "," << y;
+        }
+    }
 }
