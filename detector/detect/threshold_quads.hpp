@@ -27,6 +27,10 @@ struct ThresholdQuadOptions {
   // image. (AprilTag 3: quad_sigma, default 0.)
   double blur_sigma = 0;
   ThresholdOptions threshold;
+  // Dark regions 8-connected and light ones 4-connected (components.hpp) instead of the reverse
+  // (AprilTag 3's pairing): a 10-12 px tag's black border is about one pixel wide, and when the tag
+  // is rotated it is a diagonal staircase that 4-connectivity cuts into pieces, none of them a quad.
+  bool dark_eight_connected = false;
   BoundaryOptions boundaries;
   QuadFitOptions fit;      // fit.min_tag_width is in full-resolution pixels (halved internally, >= 3)
   bool refine_edges = true;  // refit the sides on the full-resolution image (edge_refine.hpp)
