@@ -73,6 +73,12 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);
     else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
     else if (k == "margin") o.min_decision_margin = x;
+    else if (k == "tblur") o.threshold_quads.blur_sigma = x;
+    else if (k == "minpts") o.threshold_quads.fit.min_points = static_cast<int>(x);
+    else if (k == "maxima") o.threshold_quads.fit.max_maxima = static_cast<int>(x);
+    else if (k == "mse") o.threshold_quads.fit.max_line_fit_mse = x;
+    else if (k == "dark8") o.threshold_quads.dark_eight_connected = x != 0;
+    else if (k == "oneside") o.threshold_quads.fit.refit_one_side = x != 0;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

@@ -51,7 +51,7 @@ int run_end(const std::uint8_t* row, int x0, int w, std::uint8_t v) {
 
 }  // namespace
 
-void connected_components(const TernaryImage& img, ComponentScratch& s, Components& out) {
+void connected_components(const TernaryImage& img, ComponentScratch& s, Components& out, bool dark_eight) {
   const int w = img.width, h = img.height;
   out.width = w;
   out.height = h;
@@ -85,14 +85,14 @@ void connected_components(const TernaryImage& img, ComponentScratch& s, Componen
   for (std::size_t i = 0; i < nr; ++i) s.parent[i] = static_cast<std::uint32_t>(i);
 
   // 2. Join each run with the runs of the row above that touch it: overlapping columns (4-connected,
-  // dark) or overlapping or diagonally adjacent columns (8-connected, light).
+  // dark, unless dark_eight) or overlapping or diagonally adjacent columns (8-connected: light, or dark_eight).
   for (int y = 1; y < h; ++y) {
     std::uint32_t j = s.row_start[static_cast<std::size_t>(y) - 1];
     const std::uint32_t jend = s.row_start[static_cast<std::size_t>(y)];
     for (std::uint32_t i = jend; i < s.row_start[static_cast<std::size_t>(y) + 1]; ++i) {
       const ClassRun r = s.runs[i];
       if (r.value == kTernaryUnknown) continue;
-      const int slack = r.value == kTernaryLight ? 1 : 0;
+      const int slack = (r.value == kTernaryLight) != dark_eight ? 1 : 0;
       while (j < jend && s.runs[j].x1 < r.x0 - 1) ++j;  // never needed again: later runs start further right
       for (std::uint32_t k = j; k < jend && s.runs[k].x0 <= r.x1 + slack; ++k) {
         const ClassRun& p = s.runs[k];
@@ -121,10 +121,10 @@ void connected_components(const TernaryImage& img, ComponentScratch& s, Componen
   }
 }
 
-Components connected_components(const TernaryImage& img) {
+Components connected_components(const TernaryImage& img, bool dark_eight) {
   ComponentScratch s;
   Components out;
-  connected_components(img, s, out);
+  connected_components(img, s, out, dark_eight);
   return out;
 }
 

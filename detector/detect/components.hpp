@@ -35,10 +35,12 @@ struct ComponentScratch {
   std::vector<std::uint32_t> parent;     // union-find over runs
 };
 
-// Labels `img` into `out` (resized; storage reused from frame to frame).
-void connected_components(const TernaryImage& img, ComponentScratch& scratch, Components& out);
+// Labels `img` into `out` (resized; storage reused from frame to frame). dark_eight swaps the pair:
+// dark regions 8-connected and light regions 4-connected (a rotated one-pixel black border is a
+// diagonal staircase, which 4-connectivity cuts into pieces).
+void connected_components(const TernaryImage& img, ComponentScratch& scratch, Components& out, bool dark_eight = false);
 
 // Convenience form with its own scratch.
-Components connected_components(const TernaryImage& img);
+Components connected_components(const TernaryImage& img, bool dark_eight = false);
 
 }  // namespace tagbench

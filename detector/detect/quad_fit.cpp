@@ -202,10 +202,34 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
   return q;
 }
 
+void one_side_points(std::span<const BoundaryPoint> group, bool outward, std::vector<BoundaryPoint>& out) {
+  out.clear();
+  if (group.empty()) return;
+  int xmin = group[0].x2, xmax = xmin, ymin = group[0].y2, ymax = ymin;
+  for (const auto& p : group) {
+    xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
+    ymin = std::min(ymin, p.y2), ymax = std::max(ymax, p.y2);
+  }
+  // In doubled coordinates: (2 p - (min + max)) . g has the sign of (p - centre) . g.
+  for (const auto& p : group) {
+    const int d = (2 * p.x2 - xmin - xmax) * p.gx + (2 * p.y2 - ymin - ymax) * p.gy;
+    if (outward ? d > 0 : d < 0) out.push_back(p);
+  }
+}
+
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s,
                std::vector<Quad>& out) {
   for (std::size_t g = 0; g < groups.count(); ++g) {
-    const auto c = fit_quad(groups.group(g), img, opt, s);
+    const auto group = groups.group(g);
+    auto c = fit_quad(group, img, opt, s);
+    if (!c && opt.refit_one_side && static_cast<int>(group.size()) >= 2 * std::max(opt.min_points, 4)) {
+      for (const bool outward : {true, false}) {
+        if (!(outward ? opt.dark_inside : opt.light_inside)) continue;
+        one_side_points(group, outward, s.side);
+        if (s.side.size() == group.size()) continue;  // nothing left out: the same fit again
+        if ((c = fit_quad(s.side, img, opt, s))) break;
+      }
+    }
     if (!c) continue;
     Quad q;
     q.corners = *c;

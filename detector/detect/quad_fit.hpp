@@ -14,6 +14,14 @@
 // with y down is clockwise on screen: the Quad convention of quad_search.hpp. Filters: enough points,
 // the dark side inside (the gradient points outward on the whole), each line's mean squared error,
 // the area, every corner's angle within [min_angle, 180 - min_angle] degrees, and convexity.
+//
+// Refit on one side's points (refit_one_side, beyond AprilTag 3): on a tag of 10-12 px the black
+// border and the white ring are about one pixel wide and the threshold breaks them, so the border
+// and the ground can become one dark component (or the ring and the light payload cells one light
+// component). The pair's group then holds two outlines, e.g. the ring's outer edge (light inside)
+// and the square's edge (dark inside), and no single quad fits it. When a group fails, the quad is
+// fitted again to only the points whose dark-to-light step points away from the group's centre (for
+// dark_inside; toward it for light_inside): the square's edge alone.
 // Coordinates are in the pixels of the image the points came from (pixel centres at integers).
 #include <optional>
 #include <span>
@@ -33,6 +41,7 @@ struct QuadFitOptions {
   double min_tag_width = 6.0;      // px: quads whose area is below 0.95 min_tag_width^2 are dropped
   bool dark_inside = true;         // accept dark squares on a light ground (every tagbench family)
   bool light_inside = false;       // accept light squares on a dark ground (reversed-border families)
+  bool refit_one_side = false;     // a failed group is fitted again on its outward points (see above)
 };
 
 struct QuadFitScratch {
@@ -46,12 +55,17 @@ struct QuadFitScratch {
   std::vector<Moments> cum;
   std::vector<double> err, smooth;
   std::vector<int> maxima;
+  std::vector<BoundaryPoint> side;  // refit_one_side: the group's points on one side
 };
 
 // One group's quad, or nullopt when a filter rejects it. `img` supplies the gradient weights and
 // the size limit (a group of more than 2 (2 w + 2 h) points is bigger than any outline in it).
 std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const ImageF& img, const QuadFitOptions& opt,
                                 QuadFitScratch& scratch);
+
+// The points of `group` whose step toward the light side points away from (outward = true) or toward
+// the centre of the group's bounding box, into `out` (cleared first).
+void one_side_points(std::span<const BoundaryPoint> group, bool outward, std::vector<BoundaryPoint>& out);
 
 // Every group's quad appended to `out` (observed_perimeter = the quad's perimeter, segments = -1).
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& scratch,

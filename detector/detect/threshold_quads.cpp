@@ -24,7 +24,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
 
   adaptive_threshold(th_in, opt.threshold, ws.threshold, ws.ternary);
   st.ms_threshold = lap_ms(t);
-  connected_components(ws.ternary, ws.component_scratch, ws.components);
+  connected_components(ws.ternary, ws.component_scratch, ws.components, opt.dark_eight_connected);
   st.ms_components = lap_ms(t);
   group_boundaries(ws.ternary, ws.components, opt.boundaries, ws.boundary_scratch, ws.groups);
   st.ms_boundaries = lap_ms(t);

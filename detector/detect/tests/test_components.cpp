@@ -33,6 +33,29 @@ TEST(Components, DarkIsFourConnectedLightIsEightConnected) {
   EXPECT_EQ(c.size[lab(c, 0, 0)], 1u);
 }
 
+TEST(Components, DarkEightSwapsTheConnectivity) {
+  // The same pattern with dark_eight: the diagonal dark pixels join, the light ones do not.
+  const auto t = from_rows({"#.",
+                            ".#"});
+  const Components c = connected_components(t, true);
+  EXPECT_EQ(lab(c, 0, 0), lab(c, 1, 1));
+  EXPECT_NE(lab(c, 1, 0), lab(c, 0, 1));
+  EXPECT_EQ(c.count, 3u);
+  EXPECT_EQ(c.size[lab(c, 0, 0)], 2u);
+  // A one-pixel diagonal staircase (a rotated thin border) is one dark component, the light pixels
+  // on its two sides are two.
+  const auto s = from_rows({"#...",
+                            ".#..",
+                            "..#.",
+                            "...#"});
+  const Components d = connected_components(s, true);
+  EXPECT_EQ(lab(d, 0, 0), lab(d, 3, 3));
+  EXPECT_NE(lab(d, 1, 0), lab(d, 0, 1));
+  EXPECT_EQ(d.count, 3u);
+  const Components d4 = connected_components(s);
+  EXPECT_NE(lab(d4, 0, 0), lab(d4, 3, 3));
+}
+
 TEST(Components, UShapeJoinsThroughALaterRowAndSizesAddUp) {
   const auto t = from_rows({"#.#..",
                             "#.#..",

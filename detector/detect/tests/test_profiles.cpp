@@ -20,7 +20,7 @@ struct Scene {
   ImageF img;
   std::vector<int> ids;
 };
-Scene small_tags(double side, std::uint32_t seed) {
+Scene small_tags(double side, std::uint32_t seed, double blur_sigma = 0.8) {
   const TagFamily& f = builtin_family("36h11");
   Scene s{ImageF(192, 144, 0.55f), {}};
   std::mt19937 rng(seed);
@@ -35,7 +35,7 @@ Scene small_tags(double side, std::uint32_t seed) {
         for (int x = 48 * gx; x < 48 * gx + 48; ++x) s.img.at(x, y) = t.at(x, y);
       s.ids.push_back(id);
     }
-  s.img = gaussian_blur(s.img, 0.8);
+  s.img = gaussian_blur(s.img, blur_sigma);
   std::normal_distribution<float> noise(0.0f, 0.02f);
   for (auto& v : s.img.data) v = std::clamp(v + noise(rng), 0.0f, 1.0f);
   return s;
@@ -78,6 +78,27 @@ TEST(Profiles, DefaultProfileFindsSmallTagsThePaperMisses) {
   }
   EXPECT_GE(default_found, total * 9 / 10) << "paper " << paper_found;
   EXPECT_GE(default_found, paper_found + total / 4);
+}
+
+// Tags at the edge of range (issue 17): black square 10 px (cells 1.25 px), rotated 0..70 degrees.
+// The default profile finds nearly all of them; with dark regions 4-connected (AprilTag 3's pairing,
+// dark_eight_connected off) the one-pixel border breaks apart and far fewer are found.
+TEST(Profiles, DefaultProfileFindsTenPixelTags) {
+  int found8 = 0, found4 = 0, total = 0;
+  DetectorOptions four;
+  four.threshold_quads.dark_eight_connected = false;
+  const Detector dflt(DetectorOptions{}), dark4(four);
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    const Scene s = small_tags(10.0, seed, 0.5);
+    const auto a = dflt.detect(s.img), b = dark4.detect(s.img);
+    found8 += found_ids(a, s.ids);
+    found4 += found_ids(b, s.ids);
+    total += static_cast<int>(s.ids.size());
+    for (const auto* v : {&a, &b})
+      for (const Detection& d : *v) EXPECT_NE(std::find(s.ids.begin(), s.ids.end(), d.id), s.ids.end()) << d.id;
+  }
+  EXPECT_GE(found8, total * 9 / 10) << "4-connected " << found4;
+  EXPECT_GE(found8, found4 + total / 6) << "4-connected " << found4;
 }
 
 // The threshold finder alone: one quad per tag, corners within a fifth of a pixel after refinement,

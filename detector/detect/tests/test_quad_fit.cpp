@@ -3,9 +3,12 @@
 #include <cmath>
 #include <random>
 
+#include "codes/families.hpp"
+#include "codes/tag_layout.hpp"
 #include "detect/quad_fit.hpp"
 #include "detect/threshold_quads.hpp"
 #include "synthetic.hpp"
+#include "synthetic_tag.hpp"
 
 using namespace tagbench;
 
@@ -142,4 +145,65 @@ TEST(QuadFit, TinyAndRandomImagesRunCleanly) {
         EXPECT_TRUE(std::isfinite(c.x()) && std::isfinite(c.y()));
       }
   }
+}
+
+// Tags at the edge of range (issue 17): a 36h11 tag whose black square is 10 px has a black border
+// and a white ring 1.25 px wide. Rotated, the border is a diagonal staircase that the threshold and
+// 4-connected dark regions cut into pieces; with dark_eight_connected the square's outline is one
+// group again. Counted over rotations and ids so that the option's effect, not one lucky frame, is
+// tested.
+TEST(QuadFit, DarkEightConnectedFindsTenPixelTagsAtEveryRotation) {
+  const TagFamily& f = builtin_family("36h11");
+  int found4 = 0, found8 = 0, n = 0;
+  for (int k = 0; k < 18; ++k) {
+    const double phi = k * 5.0 * M_PI / 180.0;  // 0..85 degrees
+    const Corners truth = synth::square_tag_corners(32.3 + 0.17 * k, 30.6 - 0.11 * k, 10.0, phi);
+    const ImageF img =
+        synth::render_tag(64, 64, tag_cells(f, 11 + 31 * k), synth::homography_for(truth), 0.5f, 8, 0.0f, 1.0f);
+    ThresholdQuadWorkspace ws;
+    std::vector<Quad> quads;
+    for (const bool dark8 : {false, true}) {
+      ThresholdQuadOptions opt;
+      opt.dark_eight_connected = dark8;
+      find_threshold_quads(img, opt, ws, quads);
+      bool hit = false;
+      for (const Quad& q : quads) hit = hit || corner_error(q.corners, truth) < 1.0;
+      (dark8 ? found8 : found4) += hit;
+    }
+    ++n;
+  }
+  EXPECT_EQ(found8, n);
+  EXPECT_LT(found4, found8);
+}
+
+// refit_one_side: one group holding two nested outlines (the square's edge, dark inside, and a
+// ring's outer edge around it, light inside) fits no quad; its outward points alone are the square.
+TEST(QuadFit, RefitOneSideFindsTheSquareInsideAMixedGroup) {
+  BoundaryGroups groups;
+  auto outline = [&](int c2, int half2, int sign) {  // doubled coordinates, centre c2, half side half2
+    for (int t = -half2; t < half2; ++t) {
+      groups.points.push_back({c2 + t, c2 - half2, 0, static_cast<std::int8_t>(-sign)});   // top
+      groups.points.push_back({c2 + half2, c2 + t, static_cast<std::int8_t>(sign), 0});    // right
+      groups.points.push_back({c2 - t, c2 + half2, 0, static_cast<std::int8_t>(sign)});    // bottom
+      groups.points.push_back({c2 - half2, c2 - t, static_cast<std::int8_t>(-sign), 0});   // left
+    }
+  };
+  outline(80, 20, 1);   // the square: 20 px wide at (40, 40), light outside
+  outline(80, 30, -1);  // the ring's outer edge: 30 px wide, light inside
+  groups.offsets = {0, static_cast<std::uint32_t>(groups.points.size())};
+  std::vector<BoundaryPoint> side;
+  one_side_points(groups.group(0), true, side);
+  EXPECT_EQ(side.size(), 160u);
+  for (const auto& p : side) EXPECT_LE(std::max(std::abs(p.x2 - 80), std::abs(p.y2 - 80)), 20);
+
+  const ImageF img(80, 80, 0.5f);
+  QuadFitScratch s;
+  QuadFitOptions opt;
+  std::vector<Quad> quads;
+  fit_quads(groups, img, opt, s, quads);
+  EXPECT_TRUE(quads.empty());
+  opt.refit_one_side = true;
+  fit_quads(groups, img, opt, s, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  EXPECT_LT(corner_error(quads[0].corners, tilted(40, 40, 10, 0)), 0.6);
 }
