@@ -73,6 +73,12 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);
     else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
     else if (k == "margin") o.min_decision_margin = x;
+    else if (k == "photo") o.photometric.enabled = x != 0;
+    else if (k == "photo_iter") o.photometric.iterations = static_cast<int>(x);
+    else if (k == "photo_px") o.photometric.max_pixels = static_cast<int>(x);
+    else if (k == "photo_band") o.photometric.band_px = x;
+    else if (k == "photo_margin") o.photometric.margin_cells = x;
+    else if (k == "photo_huber") o.photometric.huber = x;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }
