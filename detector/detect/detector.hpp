@@ -52,11 +52,12 @@ enum class PayloadReaderKind {
 };
 
 // Two profiles. The default member values are the DEFAULT profile, what the library and `tagbench
-// detect` use unless told otherwise: the threshold quad finder with edge refinement and the area
-// payload reader (chosen by measurement, README "Default profile"). DetectorOptions::paper() is the
-// paper's detector (sections III-IV) exactly as the reproduction of its experiments uses it.
+// detect` use unless told otherwise: the threshold quad finder with edge refinement, the area
+// payload reader and the photometric corner refinement (chosen by measurement, README "Default
+// profile"). DetectorOptions::paper() is the paper's detector (sections III-IV) exactly as the reproduction of its experiments uses it.
 struct DetectorOptions {
-  // The paper's detector: the gradient quad finder and point payload reading, every other field at
+  // The paper's detector: the gradient quad finder and point payload reading, no photometric
+  // refinement, every other field at
   // its default (which is the paper's value, or off for the additions that keep the paper's
   // results). Every paper experiment (Figs. 6, 7, 9, 10; tagbench-paper in the comparisons) uses it.
   static DetectorOptions paper();
@@ -85,7 +86,7 @@ struct DetectorOptions {
   QuadSearchOptions quad_search;
   PayloadOptions payload;
   // Beyond the paper: the decoded tags' corners refined against their known printed pattern on the
-  // unblurred image (photometric_refine.hpp), before the poses; photometric.enabled = false: off.
+  // unblurred image (photometric_refine.hpp), before the poses. Default profile: on (paper(): off).
   PhotometricRefineOptions photometric;
   // Pose: given intrinsics (pixels) and the tag size (metres, > 0).
   std::optional<CameraIntrinsics> camera;
@@ -128,7 +129,7 @@ struct DetectorOptions {
   //                           min_samples, iterations, cells_across >= 1;
   //   photometric             iterations 1..100, min_pixels >= 1, max_pixels >= min_pixels;
   //                           margin_cells [0, 1); band_px, initial_blur_px, max_corner_shift_px
-  //                           finite > 0; min_black_square_px, huber, huber_min_contrast finite >= 0;
+  //                           finite > 0; min_black_square_px, huber finite >= 0;
   //                           min_contrast [0, 1];
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0

@@ -79,7 +79,6 @@ void validate_photometric(const PhotometricRefineOptions& p) {
   finite_above("photometric.max_corner_shift_px", p.max_corner_shift_px, 0);
   finite_at_least("photometric.min_black_square_px", p.min_black_square_px, 0);
   finite_at_least("photometric.huber", p.huber, 0);
-  finite_at_least("photometric.huber_min_contrast", p.huber_min_contrast, 0);
   within("photometric.min_contrast", p.min_contrast, 0, 1);
 }
 
@@ -89,6 +88,7 @@ DetectorOptions DetectorOptions::paper() {
   DetectorOptions o;
   o.quad_finder = QuadFinderKind::kGradient;
   o.payload_reader = PayloadReaderKind::kPoint;
+  o.photometric.enabled = false;
   return o;
 }
 

@@ -8,9 +8,9 @@
 // image: per pixel converted to tag units through G's local Jacobian, separately along each tag axis,
 // which is exact for a cell edge under a locally affine view), and A, B are affine in the image
 // coordinates x (black level, contrast, and their shading across the tag: a level off by 1 % of the
-// contrast at an edge would move it by about 0.025 sigma, so a constant level is not enough). Levenberg-Marquardt over G's 8 parameters, sigma and
-// the 6 photometric ones, with Huber weights (an occluder or a specular spot is down-weighted, not
-// fitted). The refined corners are G^-1 of the black square's corners.
+// contrast at an edge would move it by about 0.025 sigma, so a constant level is not enough).
+// Gauss-Newton over G's 8 parameters, sigma and the 6 photometric ones, with Huber weights (an
+// occluder or a specular spot is down-weighted, not fitted). The refined corners are G^-1 of the black square's corners.
 //
 // Units: pixels (centres at integer coordinates), intensities as in image.hpp ([0, 1]); tag
 // coordinates: the black square is [-1,1]^2 in printed axes (x right, y down), a cell 2/(d+2) wide.
@@ -33,17 +33,17 @@ namespace tagbench {
 struct Detection;  // detector.hpp
 
 struct PhotometricRefineOptions {
-  bool enabled = false;              // off: the detections keep the quad stage's corners (the paper's)
-  int iterations = 4;                // LM iterations (each one pass over the pixels, plus one per retry)
+  bool enabled = true;               // default profile on; DetectorOptions::paper(): off (the quad stage's corners)
+  int iterations = 2;                // Gauss-Newton steps (one pass over the pixels each)
   double margin_cells = 0.5;         // how far past the black square the fit reaches, in cells (< 1: inside the white ring)
-  double band_px = 2.0;              // pixels farther than this from every transition of the pattern are left out
+  double band_px = 1.5;              // pixels farther than this from every transition of the pattern are left out
   double initial_blur_px = 0.6;      // sigma's starting value, px
-  int max_pixels = 1200;             // more usable pixels than this are subsampled evenly
+  int max_pixels = 2500;             // more usable pixels than this are subsampled evenly (the cost is
+                                     // about 1000 instructions a pixel and step; precision ~ 1/sqrt(pixels))
   int min_pixels = 40;               // fewer: no refinement
   double min_black_square_px = 6;    // smaller tags (mean side, px) are left alone
   double max_corner_shift_px = 1.5;  // a larger move rejects the refinement
-  double huber = 2.0;                // Huber threshold in robust residual scales (1.4826 MAD) ...
-  double huber_min_contrast = 0.05;  // ... but at least this fraction of the tag's contrast
+  double huber = 0.15;               // Huber threshold, fraction of the tag's contrast (white - black)
   double min_contrast = 0.02;        // white minus black at the tag centre (intensity units) at least this
 };
 

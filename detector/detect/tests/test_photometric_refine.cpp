@@ -30,11 +30,7 @@ Corners perturbed(const Corners& c, double amount, std::uint32_t seed) {
   return p;
 }
 
-PhotometricRefineOptions on() {
-  PhotometricRefineOptions o;
-  o.enabled = true;
-  return o;
-}
+PhotometricRefineOptions on() { return PhotometricRefineOptions{}; }
 
 }  // namespace
 
