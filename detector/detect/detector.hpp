@@ -128,8 +128,8 @@ struct DetectorOptions {
   //                           0 < min_range_px <= max_range_px, finite; end_margin [0, 0.5);
   //                           min_samples, iterations, cells_across >= 1;
   //   photometric             iterations 1..100, min_pixels >= 1, max_pixels >= min_pixels;
-  //                           margin_cells [0, 1); band_px, initial_blur_px, max_corner_shift_px
-  //                           finite > 0; min_black_square_px, huber finite >= 0;
+  //                           margin_cells [0, 1); band_px, initial_blur_px, max_corner_shift_px,
+  //                           max_blur_cells finite > 0; min_black_square_px, huber, pixels_per_side_px finite >= 0;
   //                           min_contrast [0, 1];
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0

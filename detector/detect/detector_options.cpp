@@ -75,8 +75,10 @@ void validate_photometric(const PhotometricRefineOptions& p) {
   int_within("photometric.max_pixels", p.max_pixels, p.min_pixels, kMaxPixelsCeiling);
   if (!(p.margin_cells >= 0 && p.margin_cells < 1)) fail("photometric.margin_cells", p.margin_cells, "must be in [0, 1)");
   finite_above("photometric.band_px", p.band_px, 0);
+  finite_at_least("photometric.pixels_per_side_px", p.pixels_per_side_px, 0);
   finite_above("photometric.initial_blur_px", p.initial_blur_px, 0);
   finite_above("photometric.max_corner_shift_px", p.max_corner_shift_px, 0);
+  finite_above("photometric.max_blur_cells", p.max_blur_cells, 0);
   finite_at_least("photometric.min_black_square_px", p.min_black_square_px, 0);
   finite_at_least("photometric.huber", p.huber, 0);
   within("photometric.min_contrast", p.min_contrast, 0, 1);

@@ -190,8 +190,9 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   const int iy0 = std::max(0, static_cast<int>(std::ceil(y0))), iy1 = std::min(img.height - 1, static_cast<int>(std::floor(y1)));
   // A large tag is sampled on a coarser grid (every stride-th pixel each way) so that the transition
   // bands hold about 2 x max_pixels: the band is about a fifth of the tag's area at 8 cells across.
+  const int budget = std::max(opt.max_pixels, static_cast<int>(std::min(1e7, opt.pixels_per_side_px * side)));
   const double area = std::max(0.0, (x1 - x0) * (y1 - y0));
-  const int stride = std::max(1, static_cast<int>(std::sqrt(area * 0.4 / (2.0 * opt.max_pixels))));
+  const int stride = std::max(1, static_cast<int>(std::sqrt(area * 0.4 / (2.0 * budget))));
   std::vector<Pixel> px;
   for (int y = iy0; y <= iy1; y += stride)
     for (int x = ix0 + (y / stride) % stride; x <= ix1; x += stride) {
@@ -216,11 +217,11 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
       if (edge) px.push_back({xn, yn, img.at(x, y)});
     }
   if (static_cast<int>(px.size()) < opt.min_pixels) return std::nullopt;
-  if (static_cast<int>(px.size()) > opt.max_pixels) {  // evenly spread subsample
-    const double step = static_cast<double>(px.size()) / opt.max_pixels;
+  if (static_cast<int>(px.size()) > budget) {  // evenly spread subsample
+    const double step = static_cast<double>(px.size()) / budget;
     std::vector<Pixel> keep;
-    keep.reserve(static_cast<std::size_t>(opt.max_pixels));
-    for (int k = 0; k < opt.max_pixels; ++k) keep.push_back(px[static_cast<std::size_t>(k * step)]);
+    keep.reserve(static_cast<std::size_t>(budget));
+    for (int k = 0; k < budget; ++k) keep.push_back(px[static_cast<std::size_t>(k * step)]);
     px.swap(keep);
   }
   const Problem pb{pat, px, S};
@@ -264,7 +265,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
     if (!(c <= cost)) break;  // p stays
     p = q, cost = c;
   }
-  if (!(p(11) >= opt.min_contrast)) return std::nullopt;
+  if (!(p(11) >= opt.min_contrast) || !(p(kSigma) <= opt.max_blur_cells * side / (cells.n - 2))) return std::nullopt;
 
   Eigen::Matrix3d Gr;
   Gr << p(0), p(1), p(2), p(3), p(4), p(5), p(6), p(7), 1;

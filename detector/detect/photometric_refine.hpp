@@ -18,8 +18,9 @@
 // outside the white ring the model assumes white (the ring's outer half is not used).
 //
 // Safeguards: nullopt (the caller keeps its corners) when the tag is too small, too few pixels are
-// usable, the contrast comes out non-positive, the fit does not lower the cost, or a corner would move
-// by more than max_corner_shift_px.
+// usable, the contrast comes out below min_contrast, the blur above max_blur_cells, or a corner would
+// move by more than max_corner_shift_px. A homography cannot fit a tag seen through lens distortion:
+// the detector skips this stage when DetectorOptions::distortion is given.
 #include <optional>
 #include <span>
 
@@ -38,11 +39,15 @@ struct PhotometricRefineOptions {
   double margin_cells = 0.5;         // how far past the black square the fit reaches, in cells (< 1: inside the white ring)
   double band_px = 1.5;              // pixels farther than this from every transition of the pattern are left out
   double initial_blur_px = 0.6;      // sigma's starting value, px
-  int max_pixels = 2500;             // more usable pixels than this are subsampled evenly (the cost is
+  int max_pixels = 2500;             // more usable pixels than the budget are subsampled evenly (the cost is
                                      // about 1000 instructions a pixel and step; precision ~ 1/sqrt(pixels))
+  double pixels_per_side_px = 25;    // a larger tag's budget: this many pixels per pixel of its mean side, if above max_pixels
   int min_pixels = 40;               // fewer: no refinement
   double min_black_square_px = 6;    // smaller tags (mean side, px) are left alone
-  double max_corner_shift_px = 1.5;  // a larger move rejects the refinement
+  double max_corner_shift_px = 0.5;  // a larger move rejects the refinement (then the tag is not what the
+                                     // model says: bent, or the quad stage's corners were far off)
+  double max_blur_cells = 0.35;      // a fitted sigma above this fraction of a cell rejects it: the model
+                                     // reaches one cell either way, so heavier blur biases it
   double huber = 0.15;               // Huber threshold, fraction of the tag's contrast (white - black)
   double min_contrast = 0.02;        // white minus black at the tag centre (intensity units) at least this
 };

@@ -84,6 +84,8 @@ TEST(DetectorOptions, EveryFieldIsChecked) {
       {"photometric.max_corner_shift_px", [](DetectorOptions& o) { o.photometric.max_corner_shift_px = -1; }, "-1"},
       {"photometric.min_black_square_px", [](DetectorOptions& o) { o.photometric.min_black_square_px = kInf; }, "inf"},
       {"photometric.huber", [](DetectorOptions& o) { o.photometric.huber = -0.5; }, "-0.5"},
+      {"photometric.max_blur_cells", [](DetectorOptions& o) { o.photometric.max_blur_cells = 0; }, "0"},
+      {"photometric.pixels_per_side_px", [](DetectorOptions& o) { o.photometric.pixels_per_side_px = kNaN; }, "nan"},
       {"photometric.min_contrast", [](DetectorOptions& o) { o.photometric.min_contrast = 1.5; }, "1.5"},
       {"payload_reader", [](DetectorOptions& o) { o.payload_reader = static_cast<PayloadReaderKind>(9); }, "9"},
       {"threshold_quads.blur_sigma", [](DetectorOptions& o) { o.threshold_quads.blur_sigma = kNaN; }, "nan"},
