@@ -79,6 +79,15 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "mse") o.threshold_quads.fit.max_line_fit_mse = x;
     else if (k == "dark8") o.threshold_quads.dark_eight_connected = x != 0;
     else if (k == "oneside") o.threshold_quads.fit.refit_one_side = x != 0;
+    else if (k == "photo") o.photometric.enabled = x != 0;
+    else if (k == "photo_iter") o.photometric.iterations = static_cast<int>(x);
+    else if (k == "photo_px") o.photometric.max_pixels = static_cast<int>(x);
+    else if (k == "photo_per_side") o.photometric.pixels_per_side_px = x;
+    else if (k == "photo_shift") o.photometric.max_corner_shift_px = x;
+    else if (k == "photo_blur") o.photometric.max_blur_cells = x;
+    else if (k == "photo_band") o.photometric.band_px = x;
+    else if (k == "photo_margin") o.photometric.margin_cells = x;
+    else if (k == "photo_huber") o.photometric.huber = x;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

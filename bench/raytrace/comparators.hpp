@@ -11,7 +11,9 @@
 //   tagbench-paper-half  the paper's detector segmenting at half resolution
 //   NAME/KEY=V/...   one of the four with options changed, for experiments (comparators.cpp's
 //                    apply_variant: finder, reader, k, extent, sharpen, refine, gamma, hamming, tile,
-//                    contrast, minpix, minwidth, margin)
+//                    contrast, minpix, minwidth, margin, photo, photo_iter,
+//                    photo_px, photo_per_side, photo_band, photo_margin, photo_huber,
+//                    photo_shift, photo_blur)
 //   libapriltag-d1   AprilTag 3.3 (libapriltag), quad_decimate 1, nthreads 1, its other defaults
 //                    (refine_edges 1, decode_sharpening 0.25, 2 corrected bits); pose by its estimate_tag_pose
 //   libapriltag-d2   the same at quad_decimate 2 (its default)

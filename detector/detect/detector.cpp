@@ -11,6 +11,7 @@
 #include "detect/find_quads_in_image.hpp"
 #include "detect/stage_clock.hpp"
 #include "detect/find_threshold_quads_in_image.hpp"
+#include "detect/photometric_refine.hpp"
 #include "detect/suppress_duplicates.hpp"
 #include "detect/workspace_impl.hpp"
 
@@ -126,6 +127,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                                                 trace ? &trace->readings : nullptr,
                                                                 trace ? &trace->quad_outcomes : nullptr));
   drop_below_margin(out, opt_.min_decision_margin);
+  if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
+    refine_detections_photometric(out, gray, families_, opt_.photometric);
   tm.decode = ms_since(t);
 
   // 7. Poses.

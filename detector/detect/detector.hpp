@@ -29,6 +29,7 @@
 #include "line_fit.hpp"
 #include "payload_area.hpp"
 #include "payload_decode.hpp"
+#include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
 #include "segmentation.hpp"
@@ -51,11 +52,12 @@ enum class PayloadReaderKind {
 };
 
 // Two profiles. The default member values are the DEFAULT profile, what the library and `tagbench
-// detect` use unless told otherwise: the threshold quad finder with edge refinement and the area
-// payload reader (chosen by measurement, README "Default profile"). DetectorOptions::paper() is the
-// paper's detector (sections III-IV) exactly as the reproduction of its experiments uses it.
+// detect` use unless told otherwise: the threshold quad finder with edge refinement, the area
+// payload reader and the photometric corner refinement (chosen by measurement, README "Default
+// profile"). DetectorOptions::paper() is the paper's detector (sections III-IV) exactly as the reproduction of its experiments uses it.
 struct DetectorOptions {
-  // The paper's detector: the gradient quad finder and point payload reading, every other field at
+  // The paper's detector: the gradient quad finder and point payload reading, no photometric
+  // refinement, every other field at
   // its default (which is the paper's value, or off for the additions that keep the paper's
   // results). Every paper experiment (Figs. 6, 7, 9, 10; tagbench-paper in the comparisons) uses it.
   static DetectorOptions paper();
@@ -83,6 +85,9 @@ struct DetectorOptions {
   LineFitOptions line_fit;
   QuadSearchOptions quad_search;
   PayloadOptions payload;
+  // Beyond the paper: the decoded tags' corners refined against their known printed pattern on the
+  // unblurred image (photometric_refine.hpp), before the poses. Default profile: on (paper(): off).
+  PhotometricRefineOptions photometric;
   // Pose: given intrinsics (pixels) and the tag size (metres, > 0).
   std::optional<CameraIntrinsics> camera;
   std::optional<std::array<double, 5>> distortion;  // OpenCV's k1, k2, p1, p2, k3; corners are undistorted first
@@ -122,6 +127,10 @@ struct DetectorOptions {
   //                           range_cell_fraction, max_corner_shift_px, gamma finite > 0;
   //                           0 < min_range_px <= max_range_px, finite; end_margin [0, 0.5);
   //                           min_samples, iterations, cells_across >= 1;
+  //   photometric             iterations 1..100, min_pixels >= 1, max_pixels >= min_pixels;
+  //                           margin_cells [0, 1); band_px, initial_blur_px, max_corner_shift_px,
+  //                           max_blur_cells finite > 0; min_black_square_px, huber, pixels_per_side_px finite >= 0;
+  //                           min_contrast [0, 1];
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
   //                           without; distortion only with a camera, finite;

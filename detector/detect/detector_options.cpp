@@ -69,12 +69,28 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   int_within("threshold_quads.refine.cells_across", r.cells_across, 1, 64);
 }
 
+void validate_photometric(const PhotometricRefineOptions& p) {
+  int_within("photometric.iterations", p.iterations, 1, 100);
+  int_within("photometric.min_pixels", p.min_pixels, 1, kMaxPixelsCeiling);
+  int_within("photometric.max_pixels", p.max_pixels, p.min_pixels, kMaxPixelsCeiling);
+  if (!(p.margin_cells >= 0 && p.margin_cells < 1)) fail("photometric.margin_cells", p.margin_cells, "must be in [0, 1)");
+  finite_above("photometric.band_px", p.band_px, 0);
+  finite_at_least("photometric.pixels_per_side_px", p.pixels_per_side_px, 0);
+  finite_above("photometric.initial_blur_px", p.initial_blur_px, 0);
+  finite_above("photometric.max_corner_shift_px", p.max_corner_shift_px, 0);
+  finite_above("photometric.max_blur_cells", p.max_blur_cells, 0);
+  finite_at_least("photometric.min_black_square_px", p.min_black_square_px, 0);
+  finite_at_least("photometric.huber", p.huber, 0);
+  within("photometric.min_contrast", p.min_contrast, 0, 1);
+}
+
 }  // namespace
 
 DetectorOptions DetectorOptions::paper() {
   DetectorOptions o;
   o.quad_finder = QuadFinderKind::kGradient;
   o.payload_reader = PayloadReaderKind::kPoint;
+  o.photometric.enabled = false;
   return o;
 }
 
@@ -132,6 +148,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   if (payload_reader != PayloadReaderKind::kPoint && payload_reader != PayloadReaderKind::kArea)
     fail("payload_reader", static_cast<long long>(payload_reader), "must be kPoint or kArea");
   validate_threshold_quads(threshold_quads);
+  validate_photometric(photometric);
   int_within("payload_area.samples_per_side", payload_area.samples_per_side, 1, 16);
   within("payload_area.sample_extent", payload_area.sample_extent, 0, 1);
   finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);

@@ -56,6 +56,8 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   EXPECT_EQ(p.payload_reader, PayloadReaderKind::kPoint);
   EXPECT_EQ(d.quad_finder, QuadFinderKind::kThreshold);
   EXPECT_EQ(d.payload_reader, PayloadReaderKind::kArea);
+  EXPECT_FALSE(p.photometric.enabled);
+  EXPECT_TRUE(d.photometric.enabled);
   EXPECT_EQ(p.max_hamming, d.max_hamming);
   EXPECT_EQ(p.seg_sigma, 0.8);
   p.validate();
