@@ -73,6 +73,7 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);
     else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
     else if (k == "margin") o.min_decision_margin = x;
+    else if (k == "occl") o.threshold_quads.fit.tolerate_occlusion = x != 0;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

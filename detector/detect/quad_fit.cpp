@@ -205,7 +205,10 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s,
                std::vector<Quad>& out) {
   for (std::size_t g = 0; g < groups.count(); ++g) {
-    const auto c = fit_quad(groups.group(g), img, opt, s);
+    auto c = fit_quad(groups.group(g), img, opt, s);
+    if (!c && opt.tolerate_occlusion && opt.dark_inside)
+      c = fit_quad_occluded(groups.group(g), img, opt.min_angle_deg, 0.95 * opt.min_tag_width * opt.min_tag_width,
+                            opt.occluded, s.occluded);
     if (!c) continue;
     Quad q;
     q.corners = *c;

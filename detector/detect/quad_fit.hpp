@@ -21,6 +21,7 @@
 
 #include "boundaries.hpp"
 #include "image.hpp"
+#include "quad_fit_occluded.hpp"
 #include "quad_search.hpp"
 
 namespace tagbench {
@@ -33,6 +34,11 @@ struct QuadFitOptions {
   double min_tag_width = 6.0;      // px: quads whose area is below 0.95 min_tag_width^2 are dropped
   bool dark_inside = true;         // accept dark squares on a light ground (every tagbench family)
   bool light_inside = false;       // accept light squares on a dark ground (reversed-border families)
+  // Beyond AprilTag 2: when the quad fit above fails on a dark-inside group, try fit_quad_occluded
+  // (quad_fit_occluded.hpp: the square's four lines fitted robustly, an occluder's outline left out).
+  // Off here (AprilTag 3 has no such step); the default profile turns it on (DetectorOptions).
+  bool tolerate_occlusion = false;
+  OccludedQuadFitOptions occluded;
 };
 
 struct QuadFitScratch {
@@ -46,6 +52,7 @@ struct QuadFitScratch {
   std::vector<Moments> cum;
   std::vector<double> err, smooth;
   std::vector<int> maxima;
+  OccludedQuadFitScratch occluded;
 };
 
 // One group's quad, or nullopt when a filter rejects it. `img` supplies the gradient weights and
