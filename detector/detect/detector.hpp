@@ -50,6 +50,13 @@ enum class PayloadReaderKind {
            // payload_area.hpp); min_contrast is PayloadOptions::min_contrast
 };
 
+// The threshold quad finder's options in the default profile: occluded tags are fitted too.
+inline ThresholdQuadOptions default_profile_threshold_quads() {
+  ThresholdQuadOptions q;
+  q.fit.tolerate_occlusion = true;
+  return q;
+}
+
 // Two profiles. The default member values are the DEFAULT profile, what the library and `tagbench
 // detect` use unless told otherwise: the threshold quad finder with edge refinement and the area
 // payload reader (chosen by measurement, README "Default profile"). DetectorOptions::paper() is the
@@ -65,8 +72,9 @@ struct DetectorOptions {
   // Default profile: candidate quads from the threshold stage (paper(): kGradient).
   QuadFinderKind quad_finder = QuadFinderKind::kThreshold;
   // Options of the threshold quad finder (quad_finder = kThreshold); its `halve` is ignored:
-  // half_resolution below says whether the threshold runs on the half-size image.
-  ThresholdQuadOptions threshold_quads;
+  // half_resolution below says whether the threshold runs on the half-size image. Default profile:
+  // ThresholdQuadOptions' defaults plus fit.tolerate_occlusion (quad_fit_occluded.hpp).
+  ThresholdQuadOptions threshold_quads = default_profile_threshold_quads();
   // Default profile: payload cells read over their area (paper(): kPoint).
   PayloadReaderKind payload_reader = PayloadReaderKind::kArea;
   PayloadAreaOptions payload_area;  // for kArea; its min_contrast is ignored (payload.min_contrast is used)

@@ -44,6 +44,8 @@ Line fit(const Moments& m) {
   return l;
 }
 
+double distance(const Line& l, double x, double y) { return l.nx * (x - l.cx) + l.ny * (y - l.cy); }
+
 // Douglas-Peucker over the cyclic sequence: vertex indices, increasing.
 void split_runs(OccludedQuadFitScratch& s, double tol) {
   const int n = static_cast<int>(s.pts.size());
@@ -156,11 +158,12 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
     bool merged = false;
     for (std::size_t g = 0; g < lines.size() && !merged; ++g) {
       Line& lg = lines[g];
-      if (std::abs(lg.nx * lr.nx + lg.ny * lr.ny) < cos_merge) continue;
+      // A short run's direction is noise (a pixel staircase): only the joint fit decides.
+      if (lr.count >= 10 && std::abs(lg.nx * lr.nx + lg.ny * lr.ny) < cos_merge) continue;
       Moments m = lg.m;
       m.add(runs[r].m);
       const Line both = fit(m);
-      if (both.mse > opt.max_line_mse) continue;
+      if (both.mse > opt.max_line_mse || std::abs(distance(both, lr.cx, lr.cy)) > opt.merge_distance_px) continue;
       lg = both;
       members[g].push_back(static_cast<int>(r));
       merged = true;

@@ -6,8 +6,9 @@
 // area outside the square (its outline is then an outward bump), so
 //   1. the outline (points sorted by angle around the box centre) is split into straight runs
 //      (Douglas-Peucker, `split_tolerance_px`);
-//   2. runs on one line are merged (direction within `merge_angle_deg`, together a line within
-//      `max_line_mse`), so a side visible on both sides of the occluder is one line;
+//   2. runs on one line are merged (direction within `merge_angle_deg` unless the run is short,
+//      together a line within `max_line_mse`, the run's centroid within `merge_distance_px` of it),
+//      so a side visible on both sides of the occluder is one line;
 //   3. of the (at most `max_lines`) lines with the most points, every set of four that makes a
 //      convex quad (angles as fit_quad's) is scored: each side's points must cover at least
 //      `min_side_fraction` of it (a side visible over 20 % of its length still fixes its line), the
@@ -33,9 +34,10 @@ struct OccludedQuadFitOptions {
   // when the occluder joins the square to a dark background, the group also holds the white ring's
   // outer outline, whose dark side is outside.
   double min_radial_cos = 0.3;
-  double split_tolerance_px = 1.0;   // Douglas-Peucker: a run is straight when no point is further from its chord
+  double split_tolerance_px = 1.5;   // Douglas-Peucker: a run is straight when no point is further from its chord
   double merge_angle_deg = 8.0;      // two runs are one line when their directions differ by less ...
-  double max_line_mse = 0.6;         // ... and both together fit a line to this mean squared distance (px^2)
+  double max_line_mse = 0.6;         // ... both together fit a line to this mean squared distance (px^2) ...
+  double merge_distance_px = 1.0;    // ... and the run's centroid is this close to that line
   double inside_tolerance_px = 1.5;  // a point off the lines is inside the quad when further in than this
   int max_lines = 7;                 // candidate lines (most points first); C(7, 4) = 35 sets
   int max_runs = 24;                 // an outline of more straight runs is not a tag (textures): give up
