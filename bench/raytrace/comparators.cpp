@@ -74,6 +74,8 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
     else if (k == "margin") o.min_decision_margin = x;
     else if (k == "occl") o.threshold_quads.fit.tolerate_occlusion = x != 0;
+    else if (k == "refit") o.occlusion_refit = x != 0;
+    else if (k == "agree") o.occlusion.agree_fraction = x;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

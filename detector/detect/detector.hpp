@@ -27,6 +27,7 @@
 #include "../codes/tag_family.hpp"
 #include "image.hpp"
 #include "line_fit.hpp"
+#include "occlusion_refit.hpp"
 #include "payload_area.hpp"
 #include "payload_decode.hpp"
 #include "pose.hpp"
@@ -84,6 +85,11 @@ struct DetectorOptions {
   // run at m gives (how `tagbench falsepos margin` scores thresholds from one run). What each
   // threshold saves in false detections and costs in real ones: results/margin_tradeoff.csv (README).
   double min_decision_margin = 0;
+  // Beyond the paper: after decoding, check each side against the decoded tag (black ring inside,
+  // white ring outside), re-fit a partly occluded side from its visible part, withdraw the detection
+  // when a side cannot be fixed (occlusion_refit.hpp). Default profile on; paper(): off.
+  bool occlusion_refit = true;
+  OcclusionRefitOptions occlusion;
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
   double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
   bool half_resolution = false;  // find quads at half resolution (the paper's "4x faster" option; both finders)

@@ -75,6 +75,7 @@ DetectorOptions DetectorOptions::paper() {
   DetectorOptions o;
   o.quad_finder = QuadFinderKind::kGradient;
   o.payload_reader = PayloadReaderKind::kPoint;
+  o.occlusion_refit = false;
   return o;
 }
 
