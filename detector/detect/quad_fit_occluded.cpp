@@ -188,6 +188,61 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
 
   // 3. Every set of four lines.
   const double max_dot = std::cos(min_angle_deg * M_PI / 180.0);
+  // A candidate quad's score (points on its lines), or -1 when a filter rejects it. lid[k] is side
+  // k's line (-1: the side was constructed, see below).
+  const auto evaluate = [&](const Corners& q, const std::array<int, 4>& lid) -> int {
+    bool ok = true;
+    const bool three = lid[3] < 0;
+    double area2 = 0;
+    for (std::size_t i = 0; i < 4; ++i) area2 += q[i].x() * q[(i + 1) & 3].y() - q[(i + 1) & 3].x() * q[i].y();
+    if (0.5 * area2 < min_area) return -1;
+    for (std::size_t i = 0; i < 4 && ok; ++i) {
+      const Eigen::Vector2d d1 = q[(i + 1) & 3] - q[i], d2 = q[(i + 2) & 3] - q[(i + 1) & 3];
+      const double den = d1.norm() * d2.norm();
+      if (den == 0 || std::abs(d1.dot(d2)) / den > max_dot || d1.x() * d2.y() - d1.y() * d2.x() < 0) ok = false;
+    }
+    if (!ok) return -1;
+    // Side k runs from corner k - 1 to corner k. Coverage in 20 bins along it; points off the
+    // four lines must not be inside.
+    std::array<std::uint32_t, 4> bins{};
+    int inside = 0, on = 0;
+    const double tol = opt.inside_tolerance_px;
+    for (int i = 0; i < n; ++i) {
+      const auto& p = s.pts[static_cast<std::size_t>(i)];
+      const int li = s.line_of[static_cast<std::size_t>(i)];
+      int k = -1;
+      for (int j = 0; j < 4; ++j)
+        if (lid[j] == li) k = j;
+      if (k >= 0) {
+        const Eigen::Vector2d &c0 = q[static_cast<std::size_t>((k + 3) & 3)], &c1 = q[static_cast<std::size_t>(k)];
+        const Eigen::Vector2d dir = c1 - c0;
+        const double t = (Eigen::Vector2d(p.x, p.y) - c0).dot(dir) / dir.squaredNorm();
+        if (t >= 0 && t < 1) bins[static_cast<std::size_t>(k)] |= 1u << static_cast<int>(t * 20);
+        ++on;
+        continue;
+      }
+      bool in = true;
+      for (int j = 0; j < 4 && in; ++j) {
+        const Eigen::Vector2d &c0 = q[static_cast<std::size_t>((j + 3) & 3)], &c1 = q[static_cast<std::size_t>(j)];
+        const Eigen::Vector2d dir = (c1 - c0).normalized();
+        // Clockwise on screen with y down: the inside is to the right of the direction, i.e. along (-dy, dx).
+        const double into = (Eigen::Vector2d(p.x, p.y) - c0).dot(Eigen::Vector2d(-dir.y(), dir.x()));
+        in = into > tol;
+      }
+      inside += in;
+    }
+    if (inside > opt.max_inside_outliers * n) return -1;
+    double total = 0;
+    for (int k = 0; k < 4 && ok; ++k) {
+      if (lid[k] < 0) continue;  // a side constructed from its neighbours' ends
+      const double cover = std::popcount(bins[static_cast<std::size_t>(k)]) / 20.0;
+      if (cover < (three ? opt.min_three_side_coverage : opt.min_side_fraction)) ok = false;
+      total += cover;
+    }
+    if (!ok || (!three && total < opt.min_total_coverage)) return -1;
+    return on;
+  };
+
   double best_score = -1;
   Corners best{};
   for (int a = 0; a < nl; ++a)
@@ -219,53 +274,52 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
             q[static_cast<std::size_t>(k)] = Eigen::Vector2d((du * v.ny - dv * u.ny) / det, (u.nx * dv - v.nx * du) / det);
           }
           if (!ok) continue;
-          double area2 = 0;
-          for (std::size_t i = 0; i < 4; ++i) area2 += q[i].x() * q[(i + 1) & 3].y() - q[(i + 1) & 3].x() * q[i].y();
-          if (0.5 * area2 < min_area) continue;
-          for (std::size_t i = 0; i < 4 && ok; ++i) {
-            const Eigen::Vector2d d1 = q[(i + 1) & 3] - q[i], d2 = q[(i + 2) & 3] - q[(i + 1) & 3];
-            const double den = d1.norm() * d2.norm();
-            if (den == 0 || std::abs(d1.dot(d2)) / den > max_dot || d1.x() * d2.y() - d1.y() * d2.x() < 0) ok = false;
+          const int score = evaluate(q, lid);
+          if (score > best_score) best_score = score, best = q;
+        }
+  // 4. No four lines: three sides seen in full and the fourth hidden but for pieces (or wholly):
+  // the fourth side joins the far ends of the two sides beside it (occlusion_refit.hpp later fits
+  // it to its visible parts).
+  const auto intersect = [](const Line& u, const Line& v) {
+    const double det = u.nx * v.ny - u.ny * v.nx;
+    const double du = u.nx * u.cx + u.ny * u.cy, dv = v.nx * v.cx + v.ny * v.cy;
+    return Eigen::Vector2d((du * v.ny - dv * u.ny) / det, (u.nx * dv - v.nx * du) / det);
+  };
+  // The far end of line li's points, seen from corner c, projected onto the line.
+  const auto far_end = [&](int li, const Eigen::Vector2d& c) {
+    const Line& l = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(li)])];
+    Eigen::Vector2d dir(-l.ny, l.nx);
+    if (dir.dot(Eigen::Vector2d(l.cx, l.cy) - c) < 0) dir = -dir;
+    double t = 0;
+    for (int i = 0; i < n; ++i)
+      if (s.line_of[static_cast<std::size_t>(i)] == li)
+        t = std::max(t, (Eigen::Vector2d(s.pts[static_cast<std::size_t>(i)].x, s.pts[static_cast<std::size_t>(i)].y) - c).dot(dir));
+    return Eigen::Vector2d(c + t * dir);
+  };
+  if (best_score < 0 && opt.three_sides)
+    for (int a = 0; a < nl; ++a)
+      for (int b = a + 1; b < nl; ++b)
+        for (int c = b + 1; c < nl; ++c) {
+          std::array<int, 3> set = {a, b, c};
+          std::array<double, 3> ang{};
+          for (int k = 0; k < 3; ++k) {
+            const Line& l = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(set[k])])];
+            ang[k] = pseudo_angle(static_cast<float>(l.cx - cx), static_cast<float>(l.cy - cy));
           }
-          if (!ok) continue;
-          // Side k runs from corner k - 1 to corner k. Coverage in 20 bins along it; points off the
-          // four lines must not be inside.
-          std::array<std::uint32_t, 4> bins{};
-          int inside = 0, on = 0;
-          const double tol = opt.inside_tolerance_px;
-          for (int i = 0; i < n; ++i) {
-            const auto& p = s.pts[static_cast<std::size_t>(i)];
-            const int li = s.line_of[static_cast<std::size_t>(i)];
-            int k = -1;
-            for (int j = 0; j < 4; ++j)
-              if (lid[j] == li) k = j;
-            if (k >= 0) {
-              const Eigen::Vector2d &c0 = q[static_cast<std::size_t>((k + 3) & 3)], &c1 = q[static_cast<std::size_t>(k)];
-              const Eigen::Vector2d dir = c1 - c0;
-              const double t = (Eigen::Vector2d(p.x, p.y) - c0).dot(dir) / dir.squaredNorm();
-              if (t >= 0 && t < 1) bins[static_cast<std::size_t>(k)] |= 1u << static_cast<int>(t * 20);
-              ++on;
-              continue;
-            }
-            bool in = true;
-            for (int j = 0; j < 4 && in; ++j) {
-              const Eigen::Vector2d &c0 = q[static_cast<std::size_t>((j + 3) & 3)], &c1 = q[static_cast<std::size_t>(j)];
-              const Eigen::Vector2d dir = (c1 - c0).normalized();
-              // Clockwise on screen with y down: the inside is to the right of the direction, i.e. along (-dy, dx).
-              const double into = (Eigen::Vector2d(p.x, p.y) - c0).dot(Eigen::Vector2d(-dir.y(), dir.x()));
-              in = into > tol;
-            }
-            inside += in;
+          std::array<int, 3> idx = {0, 1, 2};
+          std::sort(idx.begin(), idx.end(), [&](int u, int v) { return ang[static_cast<std::size_t>(u)] < ang[static_cast<std::size_t>(v)]; });
+          set = {set[static_cast<std::size_t>(idx[0])], set[static_cast<std::size_t>(idx[1])], set[static_cast<std::size_t>(idx[2])]};
+          for (int rot = 0; rot < 3; ++rot) {
+            const int la = set[rot], lb = set[(rot + 1) % 3], lc = set[(rot + 2) % 3];
+            const Line &A = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(la)])];
+            const Line &B = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(lb)])];
+            const Line &C = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(lc)])];
+            if (std::abs(A.nx * B.nx + A.ny * B.ny) > max_dot || std::abs(B.nx * C.nx + B.ny * C.ny) > max_dot) continue;
+            const Eigen::Vector2d cab = intersect(A, B), cbc = intersect(B, C);
+            const Corners q = {cab, cbc, far_end(lc, cbc), far_end(la, cab)};
+            const int score = evaluate(q, {la, lb, lc, -1});
+            if (score > best_score) best_score = score, best = q;
           }
-          if (inside > opt.max_inside_outliers * n) continue;
-          double total = 0;
-          for (int k = 0; k < 4 && ok; ++k) {
-            const double cover = std::popcount(bins[static_cast<std::size_t>(k)]) / 20.0;
-            if (cover < opt.min_side_fraction) ok = false;
-            total += cover;
-          }
-          if (!ok || total < opt.min_total_coverage) continue;
-          if (on > best_score) best_score = on, best = q;
         }
   if (best_score < 0) return std::nullopt;
   return best;
