@@ -51,9 +51,21 @@ OcclusionRefitResult refit_occluded_sides(const ImageF& img, const Corners& corn
     if (s.n.dot(0.5 * (a + b) - centre) < 0) s.n = -s.n;
     perimeter += s.len;
   }
+  // Per side, the cell size across it (the distance to the opposite side over the cells across):
+  // on small or steeply slanted tags the rings are too thin to judge, and the detection is kept as it is.
+  std::array<double, 4> cells{};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Side& o = sides[(i + 2) & 3];
+    cells[i] = std::abs((o.p0 + 0.5 * o.len * o.dir - sides[i].p0).dot(sides[i].n)) / cells_across;
+    if (cells[i] < opt.min_cell_px) {
+      res.corners = corners;
+      return res;
+    }
+  }
   const double cell = perimeter / 4 / cells_across;
   for (std::size_t i = 0; i < 4; ++i) {
     const Side& s = sides[i];
+    const double cell = cells[i];
     const double margin = std::min(opt.end_margin_px, 0.25 * s.len);
     const int count = std::max(4, static_cast<int>((s.len - 2 * margin) / opt.sample_spacing_px) + 1);
     for (int k = 0; k < count; ++k) {
@@ -87,7 +99,7 @@ OcclusionRefitResult refit_occluded_sides(const ImageF& img, const Corners& corn
     for (char c : keep) visible += c;
     if (visible < std::max(3.0, opt.min_visible * count)) return res;  // too little of this side to fix its line
 
-    const double range = std::clamp(0.45 * cell, 1.0, 2.5), step = 0.25, h = 0.5;
+    const double range = std::clamp(0.45 * cells[i], 1.0, 2.5), step = 0.25, h = 0.5;
     for (int it = 0; it < opt.iterations; ++it) {
       Side& s = fitted[i];
       double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;

@@ -14,7 +14,8 @@
 // total-least-squares fit to those edge points, `iterations` times. Corners are the intersections of
 // consecutive sides' lines, so a side seen over 20 % of its length still fixes its line.
 //
-// The detection is withdrawn (nullopt) when a side has less than `min_visible` of its samples
+// A tag whose cells are under `min_cell_px` across any side (small, or steeply slanted) is left as it
+// is: its rings are too thin to tell an occluder from blur. Otherwise the detection is withdrawn (nullopt) when a side has less than `min_visible` of its samples
 // agreeing, when the median contrast is too low to judge (< `min_median_contrast`), or when a
 // corner would move by more than `max_corner_shift_cells` cells (the sides disagree).
 //
@@ -36,6 +37,8 @@ struct OcclusionRefitOptions {
   double min_median_contrast = 0.2;
   double max_corner_shift_cells = 0.5;
   int iterations = 2;
+  // Cells narrower than this (px, across any side) are too thin to judge: the detection is kept.
+  double min_cell_px = 2.5;
 };
 
 // What refit_occluded_sides did (for tests and traces).
