@@ -80,7 +80,10 @@ OcclusionRefitResult refit_occluded_sides(const ImageF& img, const Corners& corn
   }
   std::nth_element(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2), all.end());
   const double median = all[all.size() / 2];
-  if (median < opt.min_median_contrast) return res;
+  if (median < opt.min_median_contrast) {  // too faint to judge (a worn print, deep shade): kept as it is
+    res.corners = corners;
+    return res;
+  }
   const double limit = opt.agree_fraction * median;
 
   std::array<Side, 4> fitted = sides;

@@ -16,8 +16,9 @@
 //
 // A tag whose cells are under `min_cell_px` across any side (small, or steeply slanted) is left as it
 // is: its rings are too thin to tell an occluder from blur. Otherwise the detection is withdrawn (nullopt) when a side has less than `min_visible` of its samples
-// agreeing, when the median contrast is too low to judge (< `min_median_contrast`), or when a
-// corner would move by more than `max_corner_shift_cells` cells (the sides disagree).
+// agreeing or when a
+// corner would move by more than `max_corner_shift_cells` cells (the sides disagree). A median
+// contrast under `min_median_contrast` is too faint to judge: the detection is kept as it is.
 //
 // Units: pixels; corners in the Detection convention (printed order TL, TR, BR, BL, any winding).
 #include <optional>
