@@ -99,7 +99,7 @@ void split_runs(OccludedQuadFitScratch& s, double tol) {
 
 std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, const ImageF& img, double min_angle_deg, double min_area,
                                          const OccludedQuadFitOptions& opt, OccludedQuadFitScratch& s) {
-  if (group.size() < 16) return std::nullopt;
+  if (group.size() < static_cast<std::size_t>(std::max(16, opt.min_group_points))) return std::nullopt;
   int xmin = group[0].x2, xmax = xmin, ymin = group[0].y2, ymax = ymin;
   for (const auto& p : group) {
     xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
@@ -274,6 +274,11 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
             q[static_cast<std::size_t>(k)] = Eigen::Vector2d((du * v.ny - dv * u.ny) / det, (u.nx * dv - v.nx * du) / det);
           }
           if (!ok) continue;
+          // Most of the outline must be on the four lines (an occluder's outline is short); and a set
+          // that cannot beat the best is not evaluated (the evaluation walks every point).
+          int upper = 0;
+          for (int k = 0; k < 4; ++k) upper += L[k]->count;
+          if (upper < opt.min_on_lines * n || upper <= best_score) continue;
           const int score = evaluate(q, lid);
           if (score > best_score) best_score = score, best = q;
         }

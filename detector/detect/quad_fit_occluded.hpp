@@ -36,6 +36,10 @@ struct OccludedQuadFitOptions {
   // when the occluder joins the square to a dark background, the group also holds the white ring's
   // outer outline, whose dark side is outside.
   double min_radial_cos = 0.3;
+  // Smaller groups are not tried: most groups of a natural image are small, and this fit costs a
+  // sort and a split per group (the speed of the default profile); 160 points is an outline of
+  // about 60 px, a black square of about 15 px.
+  int min_group_points = 160;
   double split_tolerance_px = 1.5;   // Douglas-Peucker: a run is straight when no point is further from its chord
   double merge_angle_deg = 8.0;      // two runs are one line when their directions differ by less ...
   double max_line_mse = 0.6;         // ... both together fit a line to this mean squared distance (px^2) ...
@@ -45,6 +49,7 @@ struct OccludedQuadFitOptions {
   int max_runs = 24;                 // an outline of more straight runs is not a tag (textures): give up
   double min_side_fraction = 0.15;   // of each side's length covered by its points
   double min_total_coverage = 2.6;   // summed coverage of the four sides (4 = all fully visible)
+  double min_on_lines = 0.6;         // fraction of the outline's points on the four lines
   double max_inside_outliers = 0.03; // fraction of the group's points off the lines and inside the quad
   // When no four lines pass: three lines each covering `min_three_side_coverage` of its side, the
   // fourth side joining the far ends of its neighbours' points (a side hidden but for short pieces).
