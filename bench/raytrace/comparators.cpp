@@ -88,6 +88,9 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "photo_band") o.photometric.band_px = x;
     else if (k == "photo_margin") o.photometric.margin_cells = x;
     else if (k == "photo_huber") o.photometric.huber = x;
+    else if (k == "occl") o.threshold_quads.fit.tolerate_occlusion = x != 0;
+    else if (k == "refit") o.occlusion_refit = x != 0;
+    else if (k == "agree") o.occlusion.agree_fraction = x;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

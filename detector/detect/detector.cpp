@@ -9,6 +9,7 @@
 #include "detect/decode_quads.hpp"
 #include "detect/estimate_poses.hpp"
 #include "detect/find_quads_in_image.hpp"
+#include "detect/homography.hpp"
 #include "detect/stage_clock.hpp"
 #include "detect/find_threshold_quads_in_image.hpp"
 #include "detect/photometric_refine.hpp"
@@ -62,6 +63,28 @@ std::size_t DetectorWorkspace::capacity_bytes() const {
 void DetectorWorkspace::release() {
   if (impl_) *impl_ = Impl();  // fresh members: the old storage is freed
 }
+
+namespace {
+
+// occlusion_refit.hpp on every detection: corners (and homography, centre) replaced, or withdrawn.
+void refit_occluded(std::vector<Detection>& dets, const ImageF& gray, const std::vector<TagFamily>& families,
+                    const OcclusionRefitOptions& opt) {
+  std::erase_if(dets, [&](Detection& d) {
+    const auto f = std::find_if(families.begin(), families.end(), [&](const TagFamily& x) { return x.name() == d.family; });
+    if (f == families.end()) return false;
+    const OcclusionRefitResult r = refit_occluded_sides(gray, d.corners, f->payload_width() + 2, opt);
+    if (!r.corners) return true;
+    if (r.sides_refitted == 0) return false;
+    const auto H = tag_homography(*r.corners);
+    if (!H) return true;
+    d.corners = *r.corners;
+    d.homography = *H;
+    d.center = apply_homography(*H, Eigen::Vector2d::Zero());
+    return false;
+  });
+}
+
+}  // namespace
 
 Detector::Detector(DetectorOptions options) : opt_(std::move(options)), find_quads_(&find_quads_in_image) {
   for (const auto& f : opt_.families) families_.push_back(load_family(f));
@@ -127,6 +150,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                                                 trace ? &trace->readings : nullptr,
                                                                 trace ? &trace->quad_outcomes : nullptr));
   drop_below_margin(out, opt_.min_decision_margin);
+  if (opt_.occlusion_refit) refit_occluded(out, gray, families_, opt_.occlusion);
   if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
     refine_detections_photometric(out, gray, families_, opt_.photometric);
   tm.decode = ms_since(t);

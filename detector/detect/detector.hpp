@@ -27,6 +27,7 @@
 #include "../codes/tag_family.hpp"
 #include "image.hpp"
 #include "line_fit.hpp"
+#include "occlusion_refit.hpp"
 #include "payload_area.hpp"
 #include "payload_decode.hpp"
 #include "photometric_refine.hpp"
@@ -51,6 +52,13 @@ enum class PayloadReaderKind {
            // payload_area.hpp); min_contrast is PayloadOptions::min_contrast
 };
 
+// The threshold quad finder's options in the default profile: occluded tags are fitted too.
+inline ThresholdQuadOptions default_profile_threshold_quads() {
+  ThresholdQuadOptions q;
+  q.fit.tolerate_occlusion = true;
+  return q;
+}
+
 // Two profiles. The default member values are the DEFAULT profile, what the library and `tagbench
 // detect` use unless told otherwise: the threshold quad finder with edge refinement, the area
 // payload reader and the photometric corner refinement (chosen by measurement, README "Default
@@ -67,8 +75,9 @@ struct DetectorOptions {
   // Default profile: candidate quads from the threshold stage (paper(): kGradient).
   QuadFinderKind quad_finder = QuadFinderKind::kThreshold;
   // Options of the threshold quad finder (quad_finder = kThreshold); its `halve` is ignored:
-  // half_resolution below says whether the threshold runs on the half-size image.
-  ThresholdQuadOptions threshold_quads;
+  // half_resolution below says whether the threshold runs on the half-size image. Default profile:
+  // ThresholdQuadOptions' defaults plus fit.tolerate_occlusion (quad_fit_occluded.hpp).
+  ThresholdQuadOptions threshold_quads = default_profile_threshold_quads();
   // Default profile: payload cells read over their area (paper(): kPoint).
   PayloadReaderKind payload_reader = PayloadReaderKind::kArea;
   PayloadAreaOptions payload_area;  // for kArea; its min_contrast is ignored (payload.min_contrast is used)
@@ -78,6 +87,11 @@ struct DetectorOptions {
   // run at m gives (how `tagbench falsepos margin` scores thresholds from one run). What each
   // threshold saves in false detections and costs in real ones: results/margin_tradeoff.csv (README).
   double min_decision_margin = 0;
+  // Beyond the paper: after decoding, check each side against the decoded tag (black ring inside,
+  // white ring outside), re-fit a partly occluded side from its visible part, withdraw the detection
+  // when a side cannot be fixed (occlusion_refit.hpp). Default profile on; paper(): off.
+  bool occlusion_refit = true;
+  OcclusionRefitOptions occlusion;
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
   double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
   bool half_resolution = false;  // find quads at half resolution (the paper's "4x faster" option; both finders)

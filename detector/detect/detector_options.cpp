@@ -91,6 +91,7 @@ DetectorOptions DetectorOptions::paper() {
   o.quad_finder = QuadFinderKind::kGradient;
   o.payload_reader = PayloadReaderKind::kPoint;
   o.photometric.enabled = false;
+  o.occlusion_refit = false;
   return o;
 }
 

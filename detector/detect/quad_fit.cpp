@@ -230,6 +230,9 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
         if ((c = fit_quad(s.side, img, opt, s))) break;
       }
     }
+    if (!c && opt.tolerate_occlusion && opt.dark_inside)
+      c = fit_quad_occluded(group, img, opt.min_angle_deg, 0.95 * opt.min_tag_width * opt.min_tag_width,
+                            opt.occluded, s.occluded);
     if (!c) continue;
     Quad q;
     q.corners = *c;

@@ -29,6 +29,7 @@
 
 #include "boundaries.hpp"
 #include "image.hpp"
+#include "quad_fit_occluded.hpp"
 #include "quad_search.hpp"
 
 namespace tagbench {
@@ -42,6 +43,11 @@ struct QuadFitOptions {
   bool dark_inside = true;         // accept dark squares on a light ground (every tagbench family)
   bool light_inside = false;       // accept light squares on a dark ground (reversed-border families)
   bool refit_one_side = false;     // a failed group is fitted again on its outward points (see above)
+  // Beyond AprilTag 2: when the quad fit above fails on a dark-inside group, try fit_quad_occluded
+  // (quad_fit_occluded.hpp: the square's four lines fitted robustly, an occluder's outline left out).
+  // Off here (AprilTag 3 has no such step); the default profile turns it on (DetectorOptions).
+  bool tolerate_occlusion = false;
+  OccludedQuadFitOptions occluded;
 };
 
 struct QuadFitScratch {
@@ -56,6 +62,7 @@ struct QuadFitScratch {
   std::vector<double> err, smooth;
   std::vector<int> maxima;
   std::vector<BoundaryPoint> side;  // refit_one_side: the group's points on one side
+  OccludedQuadFitScratch occluded;
 };
 
 // One group's quad, or nullopt when a filter rejects it. `img` supplies the gradient weights and
