@@ -26,6 +26,13 @@ SweepSettings small_conditions() {
   return s;
 }
 
+// The plan's frames rendered (from the shared cache) as the sweep renders them.
+RenderReport render_plan(const std::vector<SweepFrame>& plan) {
+  std::vector<FramePose> poses;
+  for (const auto& f : plan) poses.push_back(f.frame);
+  return render_frames(poses, scene_template(SceneKind::kPlain), test::gentle_options(test::shared_cache()));
+}
+
 TEST(Dataset, FilesHoldTheSweepsFramesExactly) {
   if (!test::have_povray()) GTEST_SKIP() << "povray not installed";
   const SweepSettings s = small_conditions();
@@ -40,9 +47,7 @@ TEST(Dataset, FilesHoldTheSweepsFramesExactly) {
   ASSERT_EQ(d.frames.size(), plan.size());
   EXPECT_EQ(d.settings.experiment, Experiment::kConditions);
   EXPECT_EQ(d.settings.conditions, s.conditions);
-  std::vector<FramePose> poses;
-  for (const auto& f : plan) poses.push_back(f.frame);
-  const RenderReport report = render_frames(poses, scene_template(SceneKind::kPlain), test::gentle_options(test::shared_cache()));
+  const RenderReport report = render_plan(plan);
   for (std::size_t i = 0; i < plan.size(); ++i) {
     const DatasetFrame& got = d.frames[i];
     const SweepFrame& want = plan[i];
@@ -89,9 +94,7 @@ TEST(Dataset, SixdofFilesHoldTheFramesTheirLensAndCameraEffects) {
   with_ours.detectors = {comparator_names().front()};
   const std::vector<SweepFrame> plan = plan_sweep(with_ours);
   ASSERT_EQ(d.frames.size(), 3u);
-  std::vector<FramePose> poses;
-  for (const auto& f : plan) poses.push_back(f.frame);
-  const RenderReport report = render_frames(poses, scene_template(SceneKind::kPlain), test::gentle_options(test::shared_cache()));
+  const RenderReport report = render_plan(plan);
   for (std::size_t i = 0; i < plan.size(); ++i) {
     const DatasetFrame& got = d.frames[i];
     const SweepFrame& want = plan[i];

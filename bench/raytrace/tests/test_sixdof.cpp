@@ -16,6 +16,7 @@
 #include "raytrace/halton.hpp"
 #include "raytrace/sixdof.hpp"
 #include "raytrace/sweeps.hpp"
+#include "plan_refusal.hpp"
 #include "test_frames.hpp"
 
 using namespace tagbench;
@@ -30,14 +31,7 @@ SweepSettings sixdof(int frames) {
   return s;
 }
 
-std::string refusal(const SweepSettings& s) {
-  try {
-    plan_sweep(s);
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "(not refused)";
-}
+using test::refusal;
 
 // The index of the interval of width 1/n that x falls in (the plain sequence's points sit on the
 // intervals' left edges, where x * n may round just below the integer).

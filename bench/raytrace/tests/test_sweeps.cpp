@@ -18,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "raytrace/sweeps.hpp"
+#include "plan_refusal.hpp"
 #include "test_frames.hpp"
 
 using namespace tagbench;
@@ -36,14 +37,7 @@ SweepSettings settings(Experiment e, int trials, std::vector<double> steps = {})
   return s;
 }
 
-std::string refusal(const SweepSettings& s) {
-  try {
-    plan_sweep(s);
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "(not refused)";
-}
+using test::refusal;
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;

@@ -1,5 +1,9 @@
 #pragma once
 // Supersampled renderings of tags seen through a known homography, for the detector tests.
+#include <cmath>
+#include <cstdint>
+#include <random>
+
 #include <Eigen/Dense>
 
 #include "codes/tag_layout.hpp"
@@ -45,6 +49,22 @@ inline Corners square_tag_corners(double cx, double cy, double side, double phi)
   const Eigen::Vector2d c(cx, cy);
   const double a = side / 2;
   return {c - a * u - a * v, c + a * u - a * v, c + a * u + a * v, c - a * u + a * v};
+}
+
+// Root-mean-square distance between two sets of corners, px.
+inline double corner_rms(const Corners& a, const Corners& b) {
+  double s = 0;
+  for (std::size_t i = 0; i < 4; ++i) s += (a[i] - b[i]).squaredNorm();
+  return std::sqrt(s / 4);
+}
+
+// The corners each moved by up to `amount` px in x and y (uniform, seeded).
+inline Corners perturbed(const Corners& c, double amount, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-amount, amount);
+  Corners p = c;
+  for (auto& q : p) q += Eigen::Vector2d(u(rng), u(rng));
+  return p;
 }
 
 }  // namespace tagbench::synth

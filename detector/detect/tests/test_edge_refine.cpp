@@ -12,19 +12,8 @@ using namespace tagbench;
 
 namespace {
 
-double corner_rms(const Corners& a, const Corners& b) {
-  double s = 0;
-  for (std::size_t i = 0; i < 4; ++i) s += (a[i] - b[i]).squaredNorm();
-  return std::sqrt(s / 4);
-}
-
-Corners perturbed(const Corners& c, double amount, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-amount, amount);
-  Corners p = c;
-  for (auto& q : p) q += Eigen::Vector2d(u(rng), u(rng));
-  return p;
-}
+using synth::corner_rms;
+using synth::perturbed;
 
 }  // namespace
 
