@@ -38,6 +38,23 @@ void int_within(const char* field, long long v, long long lo, long long hi) {
   if (v < lo || v > hi) fail(field, v, "must be in " + text(lo) + ".." + text(hi));
 }
 
+void validate_occluded_fit(const OccludedQuadFitOptions& o) {
+  within("threshold_quads.fit.occluded.min_radial_cos", o.min_radial_cos, -1, 1);
+  int_within("threshold_quads.fit.occluded.min_group_points", o.min_group_points, 4, kMaxPixelsCeiling);
+  finite_above("threshold_quads.fit.occluded.split_tolerance_px", o.split_tolerance_px, 0);
+  within("threshold_quads.fit.occluded.merge_angle_deg", o.merge_angle_deg, 0, 90);
+  finite_above("threshold_quads.fit.occluded.max_line_mse", o.max_line_mse, 0);
+  finite_at_least("threshold_quads.fit.occluded.merge_distance_px", o.merge_distance_px, 0);
+  finite_at_least("threshold_quads.fit.occluded.inside_tolerance_px", o.inside_tolerance_px, 0);
+  int_within("threshold_quads.fit.occluded.max_lines", o.max_lines, 4, 16);  // C(16, 4) = 1820 sets at most
+  int_within("threshold_quads.fit.occluded.max_runs", o.max_runs, 4, 1000);
+  within("threshold_quads.fit.occluded.min_side_fraction", o.min_side_fraction, 0, 1);
+  within("threshold_quads.fit.occluded.min_total_coverage", o.min_total_coverage, 0, 4);
+  within("threshold_quads.fit.occluded.min_on_lines", o.min_on_lines, 0, 1);
+  within("threshold_quads.fit.occluded.max_inside_outliers", o.max_inside_outliers, 0, 1);
+  within("threshold_quads.fit.occluded.min_three_side_coverage", o.min_three_side_coverage, 0, 1);
+}
+
 void validate_threshold_quads(const ThresholdQuadOptions& q) {
   finite_at_least("threshold_quads.blur_sigma", q.blur_sigma, 0);
   int_within("threshold_quads.threshold.tile_size", q.threshold.tile_size, 1, 256);
@@ -67,6 +84,20 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   int_within("threshold_quads.refine.min_samples", r.min_samples, 1, 1 << 20);
   int_within("threshold_quads.refine.iterations", r.iterations, 1, 100);
   int_within("threshold_quads.refine.cells_across", r.cells_across, 1, 64);
+  validate_occluded_fit(q.fit.occluded);
+}
+
+void validate_occlusion_refit(const OcclusionRefitOptions& o) {
+  finite_above("occlusion.sample_spacing_px", o.sample_spacing_px, 0);
+  finite_at_least("occlusion.end_margin_px", o.end_margin_px, 0);
+  within("occlusion.agree_fraction", o.agree_fraction, 0, 1);
+  within("occlusion.max_disagree", o.max_disagree, 0, 1);
+  int_within("occlusion.erode_samples", o.erode_samples, 0, 1000);
+  within("occlusion.min_visible", o.min_visible, 0, 1);
+  within("occlusion.min_median_contrast", o.min_median_contrast, 0, 1);
+  finite_above("occlusion.max_corner_shift_cells", o.max_corner_shift_cells, 0);
+  int_within("occlusion.iterations", o.iterations, 1, 100);
+  finite_at_least("occlusion.min_cell_px", o.min_cell_px, 0);
 }
 
 void validate_photometric(const PhotometricRefineOptions& p) {
@@ -150,6 +181,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
     fail("payload_reader", static_cast<long long>(payload_reader), "must be kPoint or kArea");
   validate_threshold_quads(threshold_quads);
   validate_photometric(photometric);
+  validate_occlusion_refit(occlusion);
   int_within("payload_area.samples_per_side", payload_area.samples_per_side, 1, 16);
   within("payload_area.sample_extent", payload_area.sample_extent, 0, 1);
   finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);
