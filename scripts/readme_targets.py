@@ -102,12 +102,29 @@ def _conditions(d):
     s = rows(os.path.join(d, "conditions_summary.csv"))
     ours = _by(s, OURS)
     blur4 = next((r for r in ours if r["condition"] == "blur" and _f(r["step"]) == 4), None)
-    other = [f'{r["condition"]} {r["step"]}' for r in ours
-             if r["condition"] not in ("occlusion",) and _f(r["detection_rate"]) < 1]
+    # "100 % as today": today = the detector before issue 17, which the paper profile reproduces byte for byte,
+    # so its rows in the same run are the baseline. Where it was below 100 % (bent 30, 40 deg) the issue asks
+    # for nothing; we hold ours to libapriltag d1's rate there, a row of its own.
+    paper = {(r["condition"], r["step"]): _f(r["detection_rate"]) for r in _by(s, PAPER)}
+    d1 = {(r["condition"], r["step"]): _f(r["detection_rate"]) for r in _by(s, D1)}
+    other = [r for r in ours if r["condition"] not in ("occlusion", "blur") or
+             (r["condition"] == "blur" and _f(r["step"]) != 4)]
+    was_full = [r for r in other if paper.get((r["condition"], r["step"])) == 1]
+    below = [f'{r["condition"]} {r["step"]}' for r in was_full if _f(r["detection_rate"]) < 1]
+    hard = [r for r in other if (r["condition"], r["step"]) in paper and paper[(r["condition"], r["step"])] < 1]
+    hard_text = ", ".join(f'{r["condition"]} {r["step"]}: {100 * _f(r["detection_rate"]):.0f} % (before '
+                          f'{100 * paper[(r["condition"], r["step"])]:.0f} %, libapriltag d1 '
+                          f'{100 * d1.get((r["condition"], r["step"]), 0):.0f} %)' for r in hard)
+    hard_ok = all(_f(r["detection_rate"]) >= d1.get((r["condition"], r["step"]), 0) for r in hard)
     out = [["Conditions: blur sigma 4 px >= 98 %", f'{100 * _f(blur4["detection_rate"]):.0f} %' if blur4 else "-",
             _yes(blur4 is not None and _f(blur4["detection_rate"]) >= 0.98)],
-           ["Conditions: every other condition and strength 100 %",
-            "below 100 % at " + (", ".join(other) if other else "none"), _yes(not other)]]
+           ["Conditions: every other condition and strength 100 % as before issue 17 (where the paper profile, "
+            "the detector before it, had 100 %)",
+            f"{len(was_full)} condition steps; below 100 % at " + (", ".join(below) if below else "none"),
+            _yes(bool(was_full) and not below)]]
+    if hard:
+        out.append(["Conditions below 100 % before issue 17 (not a target of the issue): >= libapriltag d1",
+                    hard_text, _yes(hard_ok)])
     per = rows(os.path.join(d, "conditions.csv"))
     occ = [r for r in per if r["detector"] == OURS and r["condition"] == "occlusion" and _f(r["step"]) > 0]
     rep = [r for r in occ if r["detected_right_id"] == "1"]
@@ -129,7 +146,8 @@ def _speed(d):
         if r["detector"] in (OURS, OURS_HALF) and r["ratio_peer"]:
             g = _f(r["ratio_geomean"])
             out.append([f'Speed, {r["set"]}: {r["detector"]} / {r["ratio_peer"]} <= 1.0',
-                        f'{g:.2f} ({_f(r["ratio_ci_lo"]):.2f}-{_f(r["ratio_ci_hi"]):.2f}), {r["images"]} images',
+                        f'{g:.2f} ({_f(r["ratio_ci_lo"]):.2f}-{_f(r["ratio_ci_hi"]):.2f}), {r["images"]} images; '
+                        f'stretch 0.7 {"met" if g <= 0.7 else "not met"}',
                         _yes(g <= 1.0)])
     return out
 
