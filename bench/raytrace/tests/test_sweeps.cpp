@@ -314,6 +314,22 @@ TEST(SweepEffects, NoiseBlurGradientAndDistortionDoWhatTheySay) {
   EXPECT_EQ(cv::norm(apply_effect(dot, f), dot, cv::NORM_INF), 0) << "zero strength: the frame itself";
 }
 
+TEST(SweepNames, AnotherFamilyThan36h11IsInTheStemSoThatItDoesNotOverwriteThePapersFigures) {
+  SweepSettings s;
+  s.experiment = Experiment::kDistance;
+  EXPECT_EQ(result_stem(s), "fig10_distance");
+  s.family = "tag36h11";  // AprilTag's spelling of the same family
+  EXPECT_EQ(result_stem(s), "fig10_distance");
+  s.family = "16h5";
+  EXPECT_EQ(result_stem(s), "fig10_distance_16h5");
+  s.family = "tag25h9";
+  s.experiment = Experiment::kAngle;
+  EXPECT_EQ(result_stem(s), "fig9_angle_25h9");
+  s.family = "/some/dir/my family.v2.fam";  // a family file: its name without extension, made file-safe
+  s.experiment = Experiment::kConditions;
+  EXPECT_EQ(result_stem(s), "conditions_my_family_v2");
+}
+
 TEST(SweepStats, Quantiles) {
   EXPECT_EQ(quantile({4, 1, 3, 2}, 0.5), 2.5);
   EXPECT_NEAR(quantile({4, 1, 3, 2}, 0.1), 1.3, 1e-12);
