@@ -176,8 +176,9 @@ PointExplanation explain_point(const ExplainPoint& p, const DetectorTrace& trace
         break;
       case F::kNotDecoded:
         out.stage = "misread";
-        out.text = "a candidate quad here was read, but no family decoded it within max_hamming " +
-                   std::to_string(opt.max_hamming) + " (give X,Y,FAMILY:ID to count the bits wrong)";
+        out.text = "a candidate quad here was read, but no family decoded it within the bits corrected (" +
+                   std::string(opt.hamming_by_family ? "by family, at most " : "") + std::to_string(opt.max_hamming) +
+                   ") (give X,Y,FAMILY:ID to count the bits wrong)";
         break;
       case F::kDecoded:
         if (o.decision_margin < opt.min_decision_margin) {

@@ -67,7 +67,8 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "sharpen") o.payload_area.sharpening = x;
     else if (k == "refine") o.threshold_quads.refine_edges = x != 0;
     else if (k == "gamma") o.threshold_quads.refine.gamma = x;
-    else if (k == "hamming") o.max_hamming = static_cast<int>(x);
+    else if (k == "hamming") o.max_hamming = static_cast<int>(x), o.hamming_by_family = false;  // every family
+    else if (k == "byfamily") o.hamming_by_family = x != 0;
     else if (k == "tile") o.threshold_quads.threshold.tile_size = static_cast<int>(x);
     else if (k == "contrast") o.threshold_quads.threshold.min_contrast = static_cast<float>(x);
     else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);

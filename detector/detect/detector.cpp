@@ -148,7 +148,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                                                     ? &opt_.payload_area
                                                                     : nullptr,
                                                                 trace ? &trace->readings : nullptr,
-                                                                trace ? &trace->quad_outcomes : nullptr));
+                                                                trace ? &trace->quad_outcomes : nullptr,
+                                                                opt_.hamming_by_family));
   drop_below_margin(out, opt_.min_decision_margin);
   if (opt_.occlusion_refit) refit_occluded(out, gray, families_, opt_.occlusion);
   if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag

@@ -113,7 +113,8 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
         e.bits_wrong = bits ? hamming(*bits, rotate(code, d, shift)) : -1;
         if (o.fate == F::kNotDecoded) {
           e.stage = LossStage::kMisread;
-          e.text = bits ? format("payload misread: %g bits wrong (max_hamming %g)", e.bits_wrong, options.max_hamming)
+          e.text = bits ? format("payload misread: %g bits wrong (%g corrected", e.bits_wrong,
+                                        options.bits_corrected(fam.min_hamming())) + " for " + fam.name() + ")"
                         : "payload of the tag's width not read";
         } else if (o.family != fam.name() || o.id != truth.id) {
           e.stage = LossStage::kWrongId;

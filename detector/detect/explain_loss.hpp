@@ -57,7 +57,7 @@ struct LossExplanation {
   LossStage stage = LossStage::kNoCluster;
   int sides_with_segment = -1;  // no_segment / no_quad: sides (0..4) with a segment along them; -1 otherwise
   int bits_wrong = -1;          // misread / wrong_id: bits of the tag's code read wrong; -1 otherwise
-  std::string text;             // one line for people, e.g. "payload misread: 3 bits wrong (max_hamming 1)"
+  std::string text;             // one line for people, e.g. "payload misread: 4 bits wrong (3 corrected for 36h11)"
 };
 
 // The default tolerance: 2 px, or 15 % of the tag's mean side when that is larger.
