@@ -58,7 +58,8 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        where it was lost, from the detection's trace. A detection whose quad holds the
                        point: "detected". Else the candidate quad holding it that got furthest:
                        quad_rejected (border pre-filter, degenerate corners, cells not readable),
-                       misread (read, not decoded within --max-hamming), below_margin, duplicate; with
+                       misread (read, not decoded within the bits corrected), below_margin,
+                       withdrawn (decoded, then withdrawn by the occlusion refit), duplicate; with
                        FAMILY:ID (the tag you expect there) also wrong_id and the bits of its code read
                        wrong. No quad holds it: no_quad (segments within 50 px), no_segment (gradient
                        clusters within 50 px), no_cluster. JSON: an "explain" list in each image (below);

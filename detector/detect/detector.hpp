@@ -222,6 +222,7 @@ struct DetectorTrace {
   std::vector<Quad> quads;
   std::vector<PayloadReading> readings;  // one per quad that could be sampled
   std::vector<QuadOutcome> quad_outcomes;  // one per entry of quads, in order
+  std::vector<Detection> withdrawn;        // detections the occlusion refit withdrew, as decoded
 };
 
 // The per-pixel working buffers of one detection (the float image, blur, gradients, the

@@ -60,6 +60,7 @@ const char* loss_stage_name(LossStage s) {
     case LossStage::kWrongId: return "wrong_id";
     case LossStage::kDuplicate: return "duplicate";
     case LossStage::kBelowMargin: return "below_margin";
+    case LossStage::kWithdrawn: return "withdrawn";
     case LossStage::kDetected: return "detected";
   }
   return "?";
@@ -124,6 +125,12 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
           e.stage = LossStage::kBelowMargin;
           e.text = format("decoded right, decision margin %.3g below the minimum %.3g", o.decision_margin,
                           options.min_decision_margin);
+        } else if (std::any_of(trace.withdrawn.begin(), trace.withdrawn.end(), [&](const Detection& w) {
+                     return w.family == fam.name() && w.id == truth.id && corner_error(w.corners, truth.corners, 0) <= tol;
+                   })) {
+          e.stage = LossStage::kWithdrawn;
+          e.text = "decoded right, then withdrawn by the occlusion refit: a side disagrees with the decoded tag "
+                   "(occluded or bent) and could not be re-fitted from its visible part";
         } else {
           e.stage = LossStage::kDuplicate;
           e.text = "decoded right, but a nearby detection of the same id was kept instead";

@@ -498,15 +498,15 @@ TEST(SweepRun, AMissedFrameSaysWhereTheTagWasLost) {
   }
   const auto sum = lines(summary_csv(r, summarize(r)));
   EXPECT_NE(sum[0].find(",ms_median,lost_no_cluster,lost_no_segment,lost_no_quad,lost_quad_rejected,lost_misread,"
-                        "lost_wrong_id,lost_duplicate,lost_below_margin"),
+                        "lost_wrong_id,lost_duplicate,lost_below_margin,lost_withdrawn"),
             std::string::npos)
       << sum[0];
   for (std::size_t i = 1; i < sum.size(); ++i) {
     const auto f = fields(sum[i]);
-    ASSERT_EQ(f.size(), 33u) << sum[i];
+    ASSERT_EQ(f.size(), 34u) << sum[i];
     const bool ours = f[4].rfind("tagbench", 0) == 0;
     int lost = 0;
-    for (std::size_t k = 25; k < 33; ++k) {
+    for (std::size_t k = 25; k < 34; ++k) {
       EXPECT_EQ(f[k].empty(), !ours) << sum[i];
       if (ours) lost += std::stoi(f[k]);
     }
