@@ -193,6 +193,8 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   int_within("payload_area.samples_per_side", payload_area.samples_per_side, 1, 16);
   within("payload_area.sample_extent", payload_area.sample_extent, 0, 1);
   finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);
+  finite_at_least("payload_area.small_cell_px", payload_area.small_cell_px, 0);
+  finite_at_least("payload_area.small_cell_sharpening", payload_area.small_cell_sharpening, 0);
 
   if (camera) {
     finite_above("camera.fx", camera->fx, 0);
