@@ -338,8 +338,12 @@ def families_figure(results, rows36):
         ax.set_xlabel("distance (m), 1 m black square, f = 400 px")
         ax.set_ylim(-3, 103)
         ax.grid(True, alpha=0.3)
-    axes[0][0].legend(fontsize=8, loc="lower left")
-    fig.tight_layout()
+    handles = {}  # one legend for all panels: every detector any panel drew
+    for ax in axes[0]:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(lab, h)
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    fig.legend(list(handles.values()), list(handles.keys()), loc="lower center", ncol=4, fontsize=8)
     save(fig, os.path.join(results, "fig10_distance_families.png"))
     doc = {"tool": "scripts/plot_raytrace.py", "figure": "fig10_distance_families.png",
            "inputs": ["fig10_distance_summary.csv"] + [f"fig10_distance_{f}_summary.csv" for f, _ in panels[1:]],
