@@ -190,7 +190,7 @@ PointExplanation explain_point(const ExplainPoint& p, const DetectorTrace& trace
                      // The withdrawn detection's corners are this quad's, re-ordered by its rotation.
                      return w.family == o.family && w.id == o.id &&
                             std::all_of(w.corners.begin(), w.corners.end(), [&](const Eigen::Vector2d& x) {
-                              return std::any_of(qc.begin(), qc.end(), [&](const Eigen::Vector2d& y) { return x == y; });
+                              return std::find(qc.begin(), qc.end(), x) != qc.end();
                             });
                    })) {
           out.stage = "withdrawn";

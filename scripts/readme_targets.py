@@ -56,8 +56,8 @@ def _reach_rows(s, family):
     return [[f"Distance sweep ({family}): >= 99 % down to a black square of 10 px or less",
              f'>= 99 % to {reach["step"]} m ({px:.1f} px)' if reach else "below 99 % at the first step",
              _yes(px is not None and px <= 10)],
-            [f"Distance sweep ({family}): >= libapriltag d1 at every step", "below at " + (", ".join(below) + " m" if below
-                                                                                         else "no step"), _yes(not below)]]
+            [f"Distance sweep ({family}): >= libapriltag d1 at every step",
+             "below at " + (", ".join(below) + " m" if below else "no step"), _yes(not below)]]
 
 
 def _distance(d):

@@ -142,7 +142,8 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   int h_min = loaded.front().min_hamming();
   std::string h_family = loaded.front().name();
   for (const TagFamily& f : loaded)
-    if (hamming_by_family ? f.min_hamming() > h_min : f.min_hamming() < h_min) h_min = f.min_hamming(), h_family = f.name();
+    if (hamming_by_family ? f.min_hamming() > h_min : f.min_hamming() < h_min)
+      h_min = f.min_hamming(), h_family = f.name();
   const int k_max = std::max(0, h_min - 1);
   if (max_hamming < 0 || max_hamming > k_max)
     fail("max_hamming", static_cast<long long>(max_hamming),

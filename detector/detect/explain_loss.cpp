@@ -126,7 +126,8 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
           e.text = format("decoded right, decision margin %.3g below the minimum %.3g", o.decision_margin,
                           options.min_decision_margin);
         } else if (std::any_of(trace.withdrawn.begin(), trace.withdrawn.end(), [&](const Detection& w) {
-                     return w.family == fam.name() && w.id == truth.id && corner_error(w.corners, truth.corners, 0) <= tol;
+                     return w.family == fam.name() && w.id == truth.id &&
+                            corner_error(w.corners, truth.corners, 0) <= tol;
                    })) {
           e.stage = LossStage::kWithdrawn;
           e.text = "decoded right, then withdrawn by the occlusion refit: a side disagrees with the decoded tag "

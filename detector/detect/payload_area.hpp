@@ -9,7 +9,8 @@
 //     through H), which averages noise without reaching into the neighbours;
 //   - the white and black ring cells train the paper's two models I = A x + B y + C x y + D (fit on
 //     the cell means; fewer than 6 cells: a constant);
-//   - optionally each payload cell is sharpened (more for cells under small_cell_px) against its four neighbours, v' = v + s (4 v - sum of
+//   - optionally each payload cell is sharpened (more for cells under small_cell_px) against its
+//     four neighbours, v' = v + s (4 v - sum of
 //     neighbours) (a discrete Laplacian on the cell grid, as AprilTag 3's decode_sharpening), which
 //     undoes part of the blur that spreads a cell into its neighbours when cells are 1-2 px;
 //   - a payload cell is 1 when v' exceeds the mean of the two models there.
