@@ -111,7 +111,10 @@ Options:
   --out DIR           where the results go (default results; created if missing)
 
 Writes into DIR, for angle / distance / conditions:
-  fig9_angle.csv / fig10_distance.csv / conditions.csv
+  fig9_angle.csv / fig10_distance.csv / conditions.csv  (with --family other than 36h11 the family is
+      added to every file's name, so that it does not overwrite the 36h11 run: fig10_distance_16h5.csv,
+      fig10_distance_16h5_summary.csv, fig10_distance_16h5.json; a family file by its name without
+      extension)
       one row per frame and detector: experiment, condition, step, step_unit, trial, seed, id, scene,
       family, tag_size_m, distance_m, phi_deg, tilt_axis_deg, roll_deg, image_x, image_y,
       black_square_px, detector, detected_right_id, wrong_id, orientation_error_deg (the angle of
@@ -151,7 +154,7 @@ int cmd_raytrace(const Words& w) {
 
   const SweepResult r = run_sweep_with_progress(s, ro, "tagbench raytrace", "raytrace " + exp);
 
-  const std::string stem = result_stem(s.experiment);
+  const std::string stem = result_stem(s);
   const bool made_out = std::filesystem::create_directories(out);
   remove_stale_temporaries(out);  // of a run killed while it wrote these files
   try {

@@ -45,7 +45,8 @@ Options:
                        printed right edge, y toward the bottom edge, z into the tag; origin at the centre)
 
 Writes into DIR, as `tagbench raytrace` (same columns): fig9_angle.csv / fig10_distance.csv /
-conditions.csv / sixdof.csv (one row per frame), *_summary.csv (per step, or sixdof's variable and bin:
+conditions.csv / sixdof.csv (one row per frame; a dataset of another family than 36h11 adds it to the
+name, e.g. fig10_distance_16h5.csv), *_summary.csv (per step, or sixdof's variable and bin:
 detection rate with its Wilson 95 % interval, error percentiles) and *.json (what was scored, the
 convention, the settings). Plots: /usr/bin/python3 scripts/plot_raytrace.py DIR (sixdof:
 scripts/plot_sixdof.py DIR).
@@ -87,7 +88,7 @@ int cmd_score(const Words& w) {
   const ScoreResult r = score_detections(dataset, dir.empty() ? "." : dir, lines, detections, name, c);
 
   const std::filesystem::path out = out_text;
-  const std::string stem = result_stem(r.sweep.settings.experiment);
+  const std::string stem = result_stem(r.sweep.settings);
   const bool made = std::filesystem::create_directories(out);
   remove_stale_temporaries(out);
   try {

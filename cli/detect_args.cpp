@@ -27,7 +27,9 @@ paths are read from stdin, one a line (how the experiments run an external detec
   --profile P          default (the default profile: threshold quads, refined edges, cells read over
                        their area) or paper (the 2011 paper's detector exactly, sections III-IV)
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
-  --max-hamming K      payload bits corrected at most, 0..16 (default 1)
+  --max-hamming K      payload bits corrected at most, 0..16, for every family (default: the paper
+                       profile 1; the default profile by family, min(3, (h - 1) / 3) for a family of
+                       minimum distance h: 36h11 3, 25h9 2, 16h5 1)
   --min-margin M       drop detections whose decision_margin is below M, 0..1 (default 0: keep all,
                        as the paper). Beyond the paper: against false detections of small families;
                        see results/margin_tradeoff.csv for what each M costs and saves
@@ -56,7 +58,8 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        where it was lost, from the detection's trace. A detection whose quad holds the
                        point: "detected". Else the candidate quad holding it that got furthest:
                        quad_rejected (border pre-filter, degenerate corners, cells not readable),
-                       misread (read, not decoded within --max-hamming), below_margin, duplicate; with
+                       misread (read, not decoded within the bits corrected), below_margin,
+                       withdrawn (decoded, then withdrawn by the occlusion refit), duplicate; with
                        FAMILY:ID (the tag you expect there) also wrong_id and the bits of its code read
                        wrong. No quad holds it: no_quad (segments within 50 px), no_segment (gradient
                        clusters within 50 px), no_cluster. JSON: an "explain" list in each image (below);
@@ -134,7 +137,10 @@ Settings parse_settings(const Args& a) {
   else if (s.profile != "default")
     throw UsageError("--profile " + s.profile + ": expected paper or default");
   if (a.has("family")) s.det.families = a.all("family");
-  s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));
+  if (a.has("max-hamming")) {  // the same bits for every family, as asked
+    s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));
+    s.det.hamming_by_family = false;
+  }
   if (const auto m = a.get("min-margin")) s.det.min_decision_margin = parse_double("--min-margin", *m, 0, 1);
   s.det.half_resolution = a.flag("half-res");
 

@@ -176,14 +176,27 @@ PointExplanation explain_point(const ExplainPoint& p, const DetectorTrace& trace
         break;
       case F::kNotDecoded:
         out.stage = "misread";
-        out.text = "a candidate quad here was read, but no family decoded it within max_hamming " +
-                   std::to_string(opt.max_hamming) + " (give X,Y,FAMILY:ID to count the bits wrong)";
+        out.text = "a candidate quad here was read, but no family decoded it within the bits corrected (" +
+                   std::string(opt.hamming_by_family ? "by family, at most " : "") + std::to_string(opt.max_hamming) +
+                   ") (give X,Y,FAMILY:ID to count the bits wrong)";
         break;
       case F::kDecoded:
         if (o.decision_margin < opt.min_decision_margin) {
           out.stage = "below_margin";
           out.text = "decoded as " + o.family + " id " + std::to_string(o.id) + ", decision margin " +
                      num(o.decision_margin) + " below the minimum " + num(opt.min_decision_margin);
+        } else if (const auto& qc = trace.quads[static_cast<std::size_t>(best)].corners;
+                   std::any_of(trace.withdrawn.begin(), trace.withdrawn.end(), [&](const Detection& w) {
+                     // The withdrawn detection's corners are this quad's, re-ordered by its rotation.
+                     return w.family == o.family && w.id == o.id &&
+                            std::all_of(w.corners.begin(), w.corners.end(), [&](const Eigen::Vector2d& x) {
+                              return std::find(qc.begin(), qc.end(), x) != qc.end();
+                            });
+                   })) {
+          out.stage = "withdrawn";
+          out.text = "decoded as " + o.family + " id " + std::to_string(o.id) +
+                     ", then withdrawn by the occlusion refit: a side disagrees with the decoded tag (occluded or "
+                     "bent) and could not be re-fitted from its visible part";
         } else {
           out.stage = "duplicate";
           out.text = "decoded as " + o.family + " id " + std::to_string(o.id) +

@@ -5,7 +5,8 @@
 //   2. else the candidate quads that hold the point, the one that got furthest (then the one centred
 //      nearest the point: give the tag's centre):
 //      without FAMILY:ID its outcome: quad_rejected (border pre-filter, degenerate corners, unreadable
-//      cells), misread (read, no family decoded it), below_margin or duplicate (decoded, not reported);
+//      cells), misread (read, no family decoded it), below_margin, withdrawn (by the occlusion refit) or
+//      duplicate (decoded, not reported);
 //      with FAMILY:ID, explain_loss (detect/explain_loss.hpp) with that quad as the tag's place, in the
 //      printed orientation that fits best: also the bits of the tag's code read wrong, wrong_id;
 //   3. else, near the point (kExplainRadiusPx): segments but no quad around it: no_quad; gradient

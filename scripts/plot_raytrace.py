@@ -5,6 +5,9 @@ and the conditions beyond the paper), from the *_summary.csv files and their JSO
   fig9_angle.png      orientation error, distance error and detection rate against phi
   fig10_distance.png  the same against distance, the black square's width in pixels on a second x-axis
   conditions.png      per condition: detection rate, and median orientation error, against strength
+  fig10_distance_families.png  with distance, when the 16h5 / 25h9 distance sweeps are there too
+                      (fig10_distance_16h5_summary.csv, ..._25h9_...): the detection rate against
+                      distance, a panel per family, 36h11 first; sidecar fig10_distance_families_plot.json
 
 One line per detector: the median over the frames it detected, with the 10-90 percentile band shaded
 (errors are drawn where at least 3 frames were detected); detection rates with their Wilson 95 %
@@ -311,6 +314,47 @@ def conditions_figure(rows, meta, out):
     save(fig, out)
 
 
+SMALL_FAMILIES = ("16h5", "25h9")
+
+
+def families_figure(results, rows36):
+    """The detection rate against distance per family, when another family's distance sweep is there."""
+    panels = [("36h11", rows36)]
+    for fam in SMALL_FAMILIES:
+        path = os.path.join(results, f"fig10_distance_{fam}_summary.csv")
+        if os.path.exists(path):
+            with open(path, newline="") as f:
+                panels.append((fam, list(csv.DictReader(f))))
+    if len(panels) == 1:
+        return
+    fig, axes = plt.subplots(1, len(panels), figsize=(6 * len(panels), 4.8), squeeze=False)
+    legend = []
+    for ax, (fam, rows) in zip(axes[0], panels):
+        for det in detectors_in(rows):
+            plot_rate(ax, series(rows, det), det)
+            if style(det)[0] not in legend:
+                legend.append(style(det)[0])
+        ax.set_title(f"{fam}: detected with the right id (%)")
+        ax.set_xlabel("distance (m), 1 m black square, f = 400 px")
+        ax.set_ylim(-3, 103)
+        ax.grid(True, alpha=0.3)
+    handles = {}  # one legend for all panels: every detector any panel drew
+    for ax in axes[0]:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(lab, h)
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    fig.legend(list(handles.values()), list(handles.keys()), loc="lower center", ncol=4, fontsize=8)
+    save(fig, os.path.join(results, "fig10_distance_families.png"))
+    doc = {"tool": "scripts/plot_raytrace.py", "figure": "fig10_distance_families.png",
+           "inputs": ["fig10_distance_summary.csv"] + [f"fig10_distance_{f}_summary.csv" for f, _ in panels[1:]],
+           "families": [f for f, _ in panels], "legend": legend}
+    path = os.path.join(results, "fig10_distance_families_plot.json")
+    with open(path + ".tmp.json", "w") as f:
+        json.dump(doc, f, indent=2)
+        f.write("\n")
+    os.replace(path + ".tmp.json", path)
+
+
 def save(fig, out):
     tmp = out + ".tmp.png"
     fig.savefig(tmp, dpi=100)
@@ -374,6 +418,8 @@ def main():
             curves, used = external_curves(results, experiment, external_dir, meta)
             legend = sweep_figure(rows, meta, experiment, out, curves)
             write_sidecar(results, experiment, meta, legend, used)
+            if experiment == "distance":
+                families_figure(results, rows)
 
 
 if __name__ == "__main__":

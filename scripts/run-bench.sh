@@ -40,6 +40,15 @@ echo "bench: ray-traced localization (paper Figs. 9 and 10, and conditions and t
 RT_CACHE=$BUILD/raytrace-cache
 "$BIN" raytrace angle --trials 50 --cache "$RT_CACHE" --out results
 "$BIN" raytrace distance --trials 50 --cache "$RT_CACHE" --out results
+# The distance sweep for the small families too (issue 17, section 5: range at least libapriltag d1's for
+# 16h5 and 25h9 as for 36h11): another family's files carry its name, results/fig10_distance_16h5*.csv and
+# results/fig10_distance_25h9*.csv, beside the 36h11 figure's. From 3 m: their white border is wider for
+# the same 1 m black square (a printed tag of 8/6 and 9/7 of it, 36h11's 10/8), so at 2 m a tag turned
+# 45 degrees in the image would not be whole in view and the sweep refuses the step.
+FAMILY_DISTANCES=3,4,5,6,7,8,9,10,12.5,15,17.5,20,22.5,25,27.5,30,32.5,35,37.5,40,42.5,45,47.5,50,52.5,55,57.5,60
+for fam in 16h5 25h9; do
+  "$BIN" raytrace distance --family "$fam" --distances "$FAMILY_DISTANCES" --trials 50 --cache "$RT_CACHE" --out results
+done
 "$BIN" raytrace conditions --trials 50 --cache "$RT_CACHE" --out results
 # The FMAC protocol's 6-DoF sweep (issue 12, section 4): 1000 Halton frames of distance, phi, tilt axis,
 # roll and image position through a camera with a lens, defocus, noise and 8 bits; every built-in detector.

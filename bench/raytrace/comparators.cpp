@@ -65,9 +65,12 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "k") o.payload_area.samples_per_side = static_cast<int>(x);
     else if (k == "extent") o.payload_area.sample_extent = x;
     else if (k == "sharpen") o.payload_area.sharpening = x;
+    else if (k == "small_px") o.payload_area.small_cell_px = x;
+    else if (k == "small_sharpen") o.payload_area.small_cell_sharpening = x;
     else if (k == "refine") o.threshold_quads.refine_edges = x != 0;
     else if (k == "gamma") o.threshold_quads.refine.gamma = x;
-    else if (k == "hamming") o.max_hamming = static_cast<int>(x);
+    else if (k == "hamming") o.max_hamming = static_cast<int>(x), o.hamming_by_family = false;  // every family
+    else if (k == "byfamily") o.hamming_by_family = x != 0;
     else if (k == "tile") o.threshold_quads.threshold.tile_size = static_cast<int>(x);
     else if (k == "contrast") o.threshold_quads.threshold.min_contrast = static_cast<float>(x);
     else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);

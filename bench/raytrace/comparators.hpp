@@ -10,8 +10,8 @@
 //   tagbench-paper   the paper's detector (DetectorOptions::paper()), full resolution
 //   tagbench-paper-half  the paper's detector segmenting at half resolution
 //   NAME/KEY=V/...   one of the four with options changed, for experiments (comparators.cpp's
-//                    apply_variant: finder, reader, k, extent, sharpen, refine, gamma, hamming, tile,
-//                    contrast, minpix, minwidth, margin, photo, photo_iter,
+//                    apply_variant: finder, reader, k, extent, sharpen, small_px, small_sharpen, refine,
+//                    gamma, hamming (every family), byfamily, tile, contrast, minpix, minwidth, margin, photo, photo_iter,
 //                    photo_px, photo_per_side, photo_band, photo_margin, photo_huber,
 //                    photo_shift, photo_blur)
 //   libapriltag-d1   AprilTag 3.3 (libapriltag), quad_decimate 1, nthreads 1, its other defaults

@@ -14,10 +14,11 @@
 namespace tagbench::bench {
 
 // The stages a missed tag can be lost at, in pipeline order.
-inline constexpr std::size_t kLossStageCount = 8;
+inline constexpr std::size_t kLossStageCount = 9;
 inline constexpr std::array<LossStage, kLossStageCount> kLossStages = {
-    LossStage::kNoCluster, LossStage::kNoSegment, LossStage::kNoQuad,    LossStage::kQuadRejected,
-    LossStage::kMisread,   LossStage::kWrongId,   LossStage::kDuplicate, LossStage::kBelowMargin};
+    LossStage::kNoCluster, LossStage::kNoSegment, LossStage::kNoQuad,      LossStage::kQuadRejected,
+    LossStage::kMisread,   LossStage::kWrongId,   LossStage::kDuplicate,   LossStage::kBelowMargin,
+    LossStage::kWithdrawn};
 
 // Missed tags per stage (kLossStages order); `explains`: the detector gives stages at all.
 struct LossCounts {

@@ -1,8 +1,11 @@
 // The sweeps' names: experiments, result stems, the conditions' table, scenes.
+#include <cctype>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "codes/families.hpp"
 #include "raytrace/sweeps.hpp"
 
 namespace tagbench::bench {
@@ -25,6 +28,17 @@ const char* result_stem(Experiment e) {
     case Experiment::kSixdof: return "sixdof";
   }
   return "?";
+}
+
+std::string result_stem(const SweepSettings& s) {
+  std::string stem = result_stem(s.experiment);
+  const std::string family = canonical_family_name(s.family);
+  if (family == "36h11") return stem;
+  std::string name = std::filesystem::path(family).stem().string();
+  if (name.empty()) name = family;
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+  return stem + "_" + name;
 }
 
 const std::vector<ConditionInfo>& condition_table() {

@@ -131,8 +131,8 @@ std::string sidecar_json(const SweepResult& r) {
                       : sixdof ? "beyond the paper: the FMAC protocol's 6-DoF sweep (arXiv 2601.07723)"
                                : "beyond the paper";
   j += "  \"paper\": " + json_string(paper) + ",\n";
-  j += "  \"files\": {\"rows\": " + json_string(std::string(result_stem(s.experiment)) + ".csv") +
-       ", \"summary\": " + json_string(std::string(result_stem(s.experiment)) + "_summary.csv") + "},\n";
+  j += "  \"files\": {\"rows\": " + json_string(result_stem(s) + ".csv") +
+       ", \"summary\": " + json_string(result_stem(s) + "_summary.csv") + "},\n";
   j += "  \"settings\": {\"scene\": " + json_string(scene_name(s.scene)) + ", \"family\": " + json_string(s.family) +
        ", \"tag_size_m\": " + json_number(*s.tag_size) + ", \"seed\": " + std::to_string(s.seed) +
        ", \"trials\": " + std::to_string(s.trials) + ",\n    \"steps\": " +

@@ -263,5 +263,10 @@ std::string summary_csv(const SweepResult& result, const std::vector<SummaryRow>
 std::string sidecar_json(const SweepResult& result);
 // "fig9_angle", "fig10_distance", "conditions", "sixdof": the files' stem.
 const char* result_stem(Experiment e);
+// The stem of a run's files: result_stem(experiment), plus "_" and the family when it is not 36h11
+// (the family of the paper's figures), so that sweeps of other families sit beside the 36h11 ones
+// without overwriting them: fig10_distance_16h5.csv. A family file is named by its file name without
+// extension; characters other than letters, digits, '-' and '_' become '_'.
+std::string result_stem(const SweepSettings& s);
 
 }  // namespace tagbench::bench

@@ -171,7 +171,7 @@ std::string score_sidecar_json(const ScoreResult& r, const std::filesystem::path
                                const std::string& detections, const Convention& c) {
   const SweepSettings& s = r.sweep.settings;
   const CameraIntrinsics K = render_camera();
-  const std::string stem = result_stem(s.experiment);
+  const std::string stem = result_stem(s);
   const bool sixdof = s.experiment == Experiment::kSixdof;
   std::string j = "{\n  \"tool\": \"tagbench score\",\n  \"experiment\": " + json_string(experiment_name(s.experiment)) +
                   ",\n  \"dataset\": " + json_string(dataset.string()) + ", \"detections\": " + json_string(detections) +

@@ -220,7 +220,7 @@ TEST(CliDetect, FamilyIdAndCornersInJsonAndCsv) {
   const Json j = parse_json(r.out);
   EXPECT_EQ(j["tool"].str, "tagbench detect");
   EXPECT_EQ(j["options"]["families"][0].str, "25h9");
-  EXPECT_EQ(j["options"]["max_hamming"].num, 1);
+  EXPECT_EQ(j["options"]["max_hamming"].num, 3);  // the default profile's cap; by family 25h9 gets 2
   EXPECT_EQ(j["options"]["min_decision_margin"].num, 0);
   EXPECT_EQ(j["options"]["camera"].type, Json::kNull);
   EXPECT_EQ(j["errors"].size(), 0u);

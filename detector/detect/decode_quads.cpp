@@ -13,7 +13,7 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
                                     std::span<const TagFamily> families, int max_hamming,
                                     const PayloadOptions& payload, const PayloadAreaOptions* area,
                                     std::vector<PayloadReading>* readings,
-                                    std::vector<QuadOutcome>* outcomes) {
+                                    std::vector<QuadOutcome>* outcomes, bool hamming_by_family) {
   std::vector<Detection> found;
   int max_d = 0;
   for (const TagFamily& f : families) max_d = std::max(max_d, f.payload_width());
@@ -49,7 +49,8 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
       }
       const auto& reading = by_width[d];
       if (!reading) continue;
-      const auto dec = f.decode(reading->bits, max_hamming);
+      const int k = hamming_by_family ? std::min(max_hamming, std::max(0, (f.min_hamming() - 1) / 3)) : max_hamming;
+      const auto dec = f.decode(reading->bits, k);
       // ">=": on equal Hamming distance the earlier family keeps the quad (the header's tie-break).
       if (!dec || (have && dec->hamming >= best.hamming)) continue;
       have = true;

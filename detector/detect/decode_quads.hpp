@@ -29,11 +29,12 @@ namespace tagbench {
 // its min_contrast replaced by payload.min_contrast) instead of at their centres (read_payload).
 // `readings`, if given, receives every reading made (in quad order, then by payload width), with
 // their sample points (for the paper's Fig. 4 pictures). `outcomes`, if given, receives one entry per
-// quad, in order: what became of it (for explain_loss.hpp).
+// quad, in order: what became of it (for explain_loss.hpp). `hamming_by_family`: each family corrects
+// at most min(max_hamming, (h - 1) / 3) bits (DetectorOptions::hamming_by_family), else max_hamming.
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
                                     const PayloadOptions& payload, const PayloadAreaOptions* area = nullptr,
                                     std::vector<PayloadReading>* readings = nullptr,
-                                    std::vector<QuadOutcome>* outcomes = nullptr);
+                                    std::vector<QuadOutcome>* outcomes = nullptr, bool hamming_by_family = false);
 
 }  // namespace tagbench

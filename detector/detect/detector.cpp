@@ -66,17 +66,22 @@ void DetectorWorkspace::release() {
 
 namespace {
 
-// occlusion_refit.hpp on every detection: corners (and homography, centre) replaced, or withdrawn.
+// occlusion_refit.hpp on every detection: corners (and homography, centre) replaced, or withdrawn
+// (then copied, as decoded, to `withdrawn` if given).
 void refit_occluded(std::vector<Detection>& dets, const ImageF& gray, const std::vector<TagFamily>& families,
-                    const OcclusionRefitOptions& opt) {
+                    const OcclusionRefitOptions& opt, std::vector<Detection>* withdrawn) {
   std::erase_if(dets, [&](Detection& d) {
     const auto f = std::find_if(families.begin(), families.end(), [&](const TagFamily& x) { return x.name() == d.family; });
     if (f == families.end()) return false;
     const OcclusionRefitResult r = refit_occluded_sides(gray, d.corners, f->payload_width() + 2, opt);
-    if (!r.corners) return true;
+    const auto withdraw = [&] {
+      if (withdrawn) withdrawn->push_back(d);
+      return true;
+    };
+    if (!r.corners) return withdraw();
     if (r.sides_refitted == 0) return false;
     const auto H = tag_homography(*r.corners);
-    if (!H) return true;
+    if (!H) return withdraw();
     d.corners = *r.corners;
     d.homography = *H;
     d.center = apply_homography(*H, Eigen::Vector2d::Zero());
@@ -148,9 +153,10 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                                                     ? &opt_.payload_area
                                                                     : nullptr,
                                                                 trace ? &trace->readings : nullptr,
-                                                                trace ? &trace->quad_outcomes : nullptr));
+                                                                trace ? &trace->quad_outcomes : nullptr,
+                                                                opt_.hamming_by_family));
   drop_below_margin(out, opt_.min_decision_margin);
-  if (opt_.occlusion_refit) refit_occluded(out, gray, families_, opt_.occlusion);
+  if (opt_.occlusion_refit) refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);
   if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
     refine_detections_photometric(out, gray, families_, opt_.photometric);
   tm.decode = ms_since(t);

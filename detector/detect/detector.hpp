@@ -71,7 +71,18 @@ struct DetectorOptions {
   static DetectorOptions paper();
 
   std::vector<std::string> families = {"36h11"};  // built-in names or family files
-  int max_hamming = 1;           // bits corrected at most (Java default; docs/paper-to-code.md section 1)
+  // Bits corrected at most (paper(): 1, the Java default; docs/paper-to-code.md section 1). Default
+  // profile: 3, each family capped by hamming_by_family.
+  int max_hamming = 3;
+  // Beyond the paper: a family of minimum Hamming distance h corrects at most min(max_hamming,
+  // floor((h - 1) / 3)) bits (36h11 and 36h10 3, 25h9 2, 16h5 1): a word accepted k bits from a code
+  // is then at least 2k + 1 bits from every other code, so a misread tag is far likelier to be
+  // refused than taken for another id, and small families (16h5) keep few false detections. On the
+  // distance sweep 36h11 then reads 10-9 px tags whose 1.2 px cells blur into 2-3 wrong bits (README
+  // "Default profile"). Default profile on; paper(): off (max_hamming for every family).
+  bool hamming_by_family = true;
+  // The bits corrected for a family of minimum Hamming distance h under these options.
+  int bits_corrected(int min_hamming) const;
   // Default profile: candidate quads from the threshold stage (paper(): kGradient).
   QuadFinderKind quad_finder = QuadFinderKind::kThreshold;
   // Options of the threshold quad finder (quad_finder = kThreshold); its `halve` is ignored:
@@ -123,6 +134,7 @@ struct DetectorOptions {
   // line naming the first bad field as it is spelt here and its value,
   // "FIELD = VALUE: RULE" (e.g. "quad_search.grid_cell = 0: must be finite and > 0"). The domains:
   //   families                non-empty; max_hamming 0..max(0, h - 1), h the smallest minimum
+  //                           (with hamming_by_family: 0..max(0, h - 1), h the largest minimum)
   //                           Hamming distance of the families (at h or more bits a code's acceptance
   //                           ball holds other codes of its family: nothing would be an error any more);
   //   min_decision_margin     [0, 1]; seg_sigma, decode_sigma: finite, >= 0;
@@ -210,6 +222,7 @@ struct DetectorTrace {
   std::vector<Quad> quads;
   std::vector<PayloadReading> readings;  // one per quad that could be sampled
   std::vector<QuadOutcome> quad_outcomes;  // one per entry of quads, in order
+  std::vector<Detection> withdrawn;        // detections the occlusion refit withdrew, as decoded
 };
 
 // The per-pixel working buffers of one detection (the float image, blur, gradients, the

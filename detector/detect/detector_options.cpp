@@ -123,7 +123,13 @@ DetectorOptions DetectorOptions::paper() {
   o.payload_reader = PayloadReaderKind::kPoint;
   o.photometric.enabled = false;
   o.occlusion_refit = false;
+  o.max_hamming = 1;
+  o.hamming_by_family = false;
   return o;
+}
+
+int DetectorOptions::bits_corrected(int min_hamming) const {
+  return hamming_by_family ? std::min(max_hamming, std::max(0, (min_hamming - 1) / 3)) : max_hamming;
 }
 
 void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
@@ -131,10 +137,13 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   if (loaded.size() != families.size())
     throw std::invalid_argument("families: " + std::to_string(families.size()) + " named but " +
                                 std::to_string(loaded.size()) + " loaded");
+  // Every family's bits corrected stay below its distance: by family (each capped at (h - 1) / 3),
+  // max_hamming only has to be below the largest distance; else below the smallest.
   int h_min = loaded.front().min_hamming();
   std::string h_family = loaded.front().name();
   for (const TagFamily& f : loaded)
-    if (f.min_hamming() < h_min) h_min = f.min_hamming(), h_family = f.name();
+    if (hamming_by_family ? f.min_hamming() > h_min : f.min_hamming() < h_min)
+      h_min = f.min_hamming(), h_family = f.name();
   const int k_max = std::max(0, h_min - 1);
   if (max_hamming < 0 || max_hamming > k_max)
     fail("max_hamming", static_cast<long long>(max_hamming),
@@ -185,6 +194,8 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   int_within("payload_area.samples_per_side", payload_area.samples_per_side, 1, 16);
   within("payload_area.sample_extent", payload_area.sample_extent, 0, 1);
   finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);
+  finite_at_least("payload_area.small_cell_px", payload_area.small_cell_px, 0);
+  finite_at_least("payload_area.small_cell_sharpening", payload_area.small_cell_sharpening, 0);
 
   if (camera) {
     finite_above("camera.fx", camera->fx, 0);

@@ -60,6 +60,7 @@ const char* loss_stage_name(LossStage s) {
     case LossStage::kWrongId: return "wrong_id";
     case LossStage::kDuplicate: return "duplicate";
     case LossStage::kBelowMargin: return "below_margin";
+    case LossStage::kWithdrawn: return "withdrawn";
     case LossStage::kDetected: return "detected";
   }
   return "?";
@@ -113,7 +114,8 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
         e.bits_wrong = bits ? hamming(*bits, rotate(code, d, shift)) : -1;
         if (o.fate == F::kNotDecoded) {
           e.stage = LossStage::kMisread;
-          e.text = bits ? format("payload misread: %g bits wrong (max_hamming %g)", e.bits_wrong, options.max_hamming)
+          e.text = bits ? format("payload misread: %g bits wrong (%g corrected", e.bits_wrong,
+                                        options.bits_corrected(fam.min_hamming())) + " for " + fam.name() + ")"
                         : "payload of the tag's width not read";
         } else if (o.family != fam.name() || o.id != truth.id) {
           e.stage = LossStage::kWrongId;
@@ -123,6 +125,13 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
           e.stage = LossStage::kBelowMargin;
           e.text = format("decoded right, decision margin %.3g below the minimum %.3g", o.decision_margin,
                           options.min_decision_margin);
+        } else if (std::any_of(trace.withdrawn.begin(), trace.withdrawn.end(), [&](const Detection& w) {
+                     return w.family == fam.name() && w.id == truth.id &&
+                            corner_error(w.corners, truth.corners, 0) <= tol;
+                   })) {
+          e.stage = LossStage::kWithdrawn;
+          e.text = "decoded right, then withdrawn by the occlusion refit: a side disagrees with the decoded tag "
+                   "(occluded or bent) and could not be re-fitted from its visible part";
         } else {
           e.stage = LossStage::kDuplicate;
           e.text = "decoded right, but a nearby detection of the same id was kept instead";

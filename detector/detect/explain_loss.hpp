@@ -13,11 +13,14 @@
 //                  candidate quad there) but no candidate quad whose corners match the tag's
 //   quad_rejected  a matching quad was refused before its payload was read: the border pre-filter,
 //                  a degenerate homography, or cells outside the image / no border contrast
-//   misread        a matching quad was read, but no family decoded it within max_hamming; the
+//   misread        a matching quad was read, but no family decoded it within its bits corrected; the
 //                  explanation gives how many bits of the tag's own code were read wrong
 //   wrong_id       a matching quad decoded as another id or family
 //   duplicate      it decoded right but a nearby detection of the same id was kept instead
 //   below_margin   it decoded right but its decision margin was under min_decision_margin
+//   withdrawn      it decoded right, then the occlusion refit withdrew it (occlusion_refit.hpp): a
+//                  side disagreed with the decoded tag and could not be re-fitted (DetectorTrace::withdrawn
+//                  holds the detection, as decoded)
 //   detected       a detection of the right family and id matches the corners
 // A quad "matches" when each of its corners lies within `tolerance` pixels of the tag's corner it
 // stands for (some cyclic order); the most advanced matching quad speaks for the tag.
@@ -41,6 +44,7 @@ enum class LossStage {
   kWrongId,
   kDuplicate,
   kBelowMargin,
+  kWithdrawn,  // decoded right, then withdrawn by the occlusion refit (its sides disagree with the tag)
   kDetected,
 };
 
@@ -57,7 +61,7 @@ struct LossExplanation {
   LossStage stage = LossStage::kNoCluster;
   int sides_with_segment = -1;  // no_segment / no_quad: sides (0..4) with a segment along them; -1 otherwise
   int bits_wrong = -1;          // misread / wrong_id: bits of the tag's code read wrong; -1 otherwise
-  std::string text;             // one line for people, e.g. "payload misread: 3 bits wrong (max_hamming 1)"
+  std::string text;             // one line for people, e.g. "payload misread: 4 bits wrong (3 corrected for 36h11)"
 };
 
 // The default tolerance: 2 px, or 15 % of the tag's mean side when that is larger.

@@ -74,6 +74,14 @@ std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::
   r.contrast = model_at(*wm, 0, 0) - model_at(*bm, 0, 0);
   if (!(r.contrast >= opt.min_contrast)) return std::nullopt;
   const auto at = [&](int gx, int gy) { return grid[static_cast<std::size_t>(gy * n + gx)]; };
+  double sharpening = opt.sharpening;
+  if (opt.small_cell_px > 0) {
+    double sides = 0;  // the black square's four sides, pixels
+    const Eigen::Vector2d c[4] = {apply_homography(H, {-1, -1}), apply_homography(H, {1, -1}),
+                                  apply_homography(H, {1, 1}), apply_homography(H, {-1, 1})};
+    for (int i = 0; i < 4; ++i) sides += (c[(i + 1) % 4] - c[i]).norm();
+    if (sides / 4 / (d + 2) < opt.small_cell_px) sharpening = opt.small_cell_sharpening;
+  }
   double margin = 1.0;
   Code bits = 0;
   for (int y = 0; y < d; ++y)
@@ -81,7 +89,7 @@ std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::
       const int gx = x + 2, gy = y + 2;
       double v = at(gx, gy);
       if (std::isnan(v)) return std::nullopt;
-      if (opt.sharpening != 0) {
+      if (sharpening != 0) {
         // Neighbours are payload or black-ring cells, all inside the grid; a missing one (off the
         // image) is replaced by the cell itself, i.e. contributes nothing.
         double lap = 0;
@@ -90,7 +98,7 @@ std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::
           const double u = at(q[0], q[1]);
           lap += std::isnan(u) ? 0.0 : v - u;
         }
-        v += opt.sharpening * lap;
+        v += sharpening * lap;
       }
       const double tx = centre(gx), ty = centre(gy);
       const double w = model_at(*wm, tx, ty), b = model_at(*bm, tx, ty);

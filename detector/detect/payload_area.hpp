@@ -9,7 +9,8 @@
 //     through H), which averages noise without reaching into the neighbours;
 //   - the white and black ring cells train the paper's two models I = A x + B y + C x y + D (fit on
 //     the cell means; fewer than 6 cells: a constant);
-//   - optionally each payload cell is sharpened against its four neighbours, v' = v + s (4 v - sum of
+//   - optionally each payload cell is sharpened (more for cells under small_cell_px) against its
+//     four neighbours, v' = v + s (4 v - sum of
 //     neighbours) (a discrete Laplacian on the cell grid, as AprilTag 3's decode_sharpening), which
 //     undoes part of the blur that spreads a cell into its neighbours when cells are 1-2 px;
 //   - a payload cell is 1 when v' exceeds the mean of the two models there.
@@ -30,6 +31,12 @@ struct PayloadAreaOptions {
   double sharpening = 0.5;      // s above; 0 = off (AprilTag 3's default decode_sharpening is 0.25;
                                 // on 12-18 px blurred tags 0.5 corrects about half the bits 0.25 leaves)
   double min_contrast = 0.02;   // white minus black model at the tag centre, [0, 1] intensities
+  // Cells narrower than small_cell_px (the black square's mean side in pixels over d + 2) are
+  // sharpened by small_cell_sharpening instead: at 1-1.2 px a cell's value is mostly its neighbours'
+  // blur, and 0.75 recovers bits 0.5 leaves (distance sweep beyond 40 m, 9 px tags); larger cells,
+  // where stronger sharpening would amplify noise and JPEG blocks, keep `sharpening`. 0 = off.
+  double small_cell_px = 1.2;
+  double small_cell_sharpening = 0.75;
 };
 
 // Reads a d x d payload through H (tag square [-1,1]^2 -> image); nullopt when a payload cell's

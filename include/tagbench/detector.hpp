@@ -14,7 +14,7 @@
 //                              homography, pose and pose_alternative (with a camera and a tag size)
 //   tagbench::DetectorWorkspace per-thread buffers reused from frame to frame
 //
-//   tagbench::DetectorOptions opt;            // default profile: families {"36h11"}, max_hamming 1, ...
+//   tagbench::DetectorOptions opt;            // default profile: families {"36h11"}, max_hamming 3 (by family), ...
 //   opt.camera = tagbench::CameraIntrinsics{fx, fy, cx, cy};
 //   opt.tag_size = 0.166;                     // metres, the black square's edge
 //   const tagbench::Detector detector(opt);   // throws std::invalid_argument on a bad option

@@ -11,17 +11,18 @@ import unittest
 
 SRC = sys.argv[1]
 SCRIPT = os.path.join(SRC, "scripts", "loss_breakdown.py")
-STAGES = ["no_cluster", "no_segment", "no_quad", "quad_rejected", "misread", "wrong_id", "duplicate", "below_margin"]
+STAGES = ["no_cluster", "no_segment", "no_quad", "quad_rejected", "misread", "wrong_id", "duplicate", "below_margin",
+          "withdrawn"]
 LOST = ",".join("lost_" + s for s in STAGES)
 SWEEP = (f"experiment,condition,step,step_unit,detector,frames,detected,ms_median,{LOST}\n"
-         "distance,none,10,m,tagbench-full,4,4,1.0,0,0,0,0,0,0,0,0\n"
-         "distance,none,10,m,aruco,4,3,1.0,,,,,,,,\n"
-         "distance,none,10,m,tagbench-half,4,2,1.0,0,1,0,0,1,0,0,0\n"
-         "distance,none,30,m,tagbench-full,4,1,1.0,1,2,0,0,0,0,0,0\n"
-         "distance,none,30,m,tagbench-half,4,0,1.0,4,0,0,0,0,0,0,0\n")
+         "distance,none,10,m,tagbench-full,4,4,1.0,0,0,0,0,0,0,0,0,0\n"
+         "distance,none,10,m,aruco,4,3,1.0,,,,,,,,,\n"
+         "distance,none,10,m,tagbench-half,4,2,1.0,0,1,0,0,1,0,0,0,0\n"
+         "distance,none,30,m,tagbench-full,4,1,1.0,1,2,0,0,0,0,0,0,0\n"
+         "distance,none,30,m,tagbench-half,4,0,1.0,4,0,0,0,0,0,0,0,0\n")
 REALISTIC = (f"set,seed,family,frames,size_bin,bin_lo_px,bin_hi_px,detector,tags,detected,{LOST}\n"
-             "realistic,5,36h11,2,12-16,12,16,tagbench-full,5,2,0,3,0,0,0,0,0,0\n"
-             "realistic,5,36h11,2,all,,,tagbench-full,9,6,0,3,0,0,0,0,0,0\n")
+             "realistic,5,36h11,2,12-16,12,16,tagbench-full,5,2,0,3,0,0,0,0,0,0,0\n"
+             "realistic,5,36h11,2,all,,,tagbench-full,9,6,0,3,0,0,0,0,0,0,0\n")
 
 
 def run(*args):
@@ -46,7 +47,7 @@ class LossBreakdown(unittest.TestCase):
         self.assertEqual(lines[0], f"step,step_unit,detector,frames,detected,missed,{LOST},source")
         self.assertEqual(len(lines), 5)
         self.assertNotIn("aruco", r.stdout)
-        self.assertEqual(lines[2], "10,m,tagbench-half,4,2,2,0,1,0,0,1,0,0,0,fig10_distance_summary.csv")
+        self.assertEqual(lines[2], "10,m,tagbench-half,4,2,2,0,1,0,0,1,0,0,0,0,fig10_distance_summary.csv")
 
     def test_two_profiles_side_by_side_in_markdown(self):
         r = run(self.sweep, "--detectors", "tagbench-half,tagbench-full", "--format", "markdown")
@@ -64,7 +65,7 @@ class LossBreakdown(unittest.TestCase):
         self.assertEqual(r.stdout, "")
         with open(out) as f:
             lines = f.read().splitlines()
-        self.assertEqual(lines[1], "12-16,black_square_px,tagbench-full,5,2,3,0,3,0,0,0,0,0,0,realistic_summary.csv")
+        self.assertEqual(lines[1], "12-16,black_square_px,tagbench-full,5,2,3,0,3,0,0,0,0,0,0,0,realistic_summary.csv")
 
     def test_refusals_are_one_line(self):
         old = os.path.join(self.tmp, "old.csv")

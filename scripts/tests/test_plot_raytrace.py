@@ -87,6 +87,23 @@ class PlotRaytrace(unittest.TestCase):
         self.assertEqual(doc["legend"], OURS + ["Java AprilTag 1 (paper's code, defaults; run outside the build)"])
         self.assertEqual([u["read_from"] for u in doc["external_runs"]], ["clone/external/" + FILES[1]])
 
+    def test_another_familys_distance_sweep_adds_the_families_figure(self):
+        results = self.results_copy("families")
+        r = self.plot(results, "--external", os.path.join(self.tmp, "no_such_folder"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(results, "fig10_distance_families.png")))  # 36h11 alone
+        subprocess.run([BIN, "raytrace", "distance", "--family", "16h5", "--trials", "1", "--distances", "4,25",
+                        "--detectors", "tagbench", "--processes", "1", "--cache", os.path.join(self.tmp, "cache"),
+                        "--out", results], check=True, capture_output=True)
+        r = self.plot(results, "--external", os.path.join(self.tmp, "no_such_folder"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertTrue(os.path.getsize(os.path.join(results, "fig10_distance_families.png")) > 0)
+        with open(os.path.join(results, "fig10_distance_families_plot.json")) as f:
+            doc = json.load(f)
+        self.assertEqual(doc["families"], ["36h11", "16h5"])
+        self.assertEqual(doc["inputs"], ["fig10_distance_summary.csv", "fig10_distance_16h5_summary.csv"])
+        self.assertIn("ours (default profile), full resolution", doc["legend"])
+
     def test_a_broken_external_csv_is_refused_in_one_line(self):
         src = os.path.join(self.tmp, "broken_external")
         os.makedirs(src, exist_ok=True)

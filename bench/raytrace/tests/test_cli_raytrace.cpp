@@ -160,6 +160,26 @@ TEST(CliRaytrace, SmallRunWritesRowsSummaryAndSidecarAndARerunRendersNothing) {
   }
 }
 
+// Another family's sweep goes to files named with the family, beside (never over) the 36h11 run's.
+TEST(CliRaytrace, AnotherFamilysRunWritesFilesNamedWithTheFamily) {
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray is not installed";
+  const fs::path out = scratch() / "run-16h5";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  { std::ofstream(out / "fig10_distance.csv") << "the 36h11 run\n"; }
+  const Result r = run("distance --family 16h5 --trials 1 --distances 4 --detectors tagbench " + common(out));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("wrote fig10_distance_16h5.csv, fig10_distance_16h5_summary.csv, fig10_distance_16h5.json"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(slurp(out / "fig10_distance.csv"), "the 36h11 run\n");
+  const auto rows = lines(slurp(out / "fig10_distance_16h5.csv"));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_NE(rows[1].find(",16h5,"), std::string::npos) << rows[1];
+  EXPECT_NE(rows[1].find(",tagbench,1,0,"), std::string::npos) << "a 100 px tag is found: " << rows[1];
+  EXPECT_EQ(lines(slurp(out / "fig10_distance_16h5_summary.csv")).size(), 2u);
+  EXPECT_NE(slurp(out / "fig10_distance_16h5.json").find("\"rows\": \"fig10_distance_16h5.csv\""), std::string::npos);
+}
+
 TEST(CliRaytrace, SixdofRunIsReproducibleAndRecordsEveryVariableAndCameraEffect) {
   if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray is not installed";
   const fs::path a = scratch() / "sixdof-a", b = scratch() / "sixdof-b";

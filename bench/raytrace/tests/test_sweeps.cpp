@@ -314,6 +314,22 @@ TEST(SweepEffects, NoiseBlurGradientAndDistortionDoWhatTheySay) {
   EXPECT_EQ(cv::norm(apply_effect(dot, f), dot, cv::NORM_INF), 0) << "zero strength: the frame itself";
 }
 
+TEST(SweepNames, AnotherFamilyThan36h11IsInTheStemSoThatItDoesNotOverwriteThePapersFigures) {
+  SweepSettings s;
+  s.experiment = Experiment::kDistance;
+  EXPECT_EQ(result_stem(s), "fig10_distance");
+  s.family = "tag36h11";  // AprilTag's spelling of the same family
+  EXPECT_EQ(result_stem(s), "fig10_distance");
+  s.family = "16h5";
+  EXPECT_EQ(result_stem(s), "fig10_distance_16h5");
+  s.family = "tag25h9";
+  s.experiment = Experiment::kAngle;
+  EXPECT_EQ(result_stem(s), "fig9_angle_25h9");
+  s.family = "/some/dir/my family.v2.fam";  // a family file: its name without extension, made file-safe
+  s.experiment = Experiment::kConditions;
+  EXPECT_EQ(result_stem(s), "conditions_my_family_v2");
+}
+
 TEST(SweepStats, Quantiles) {
   EXPECT_EQ(quantile({4, 1, 3, 2}, 0.5), 2.5);
   EXPECT_NEAR(quantile({4, 1, 3, 2}, 0.1), 1.3, 1e-12);
@@ -482,15 +498,15 @@ TEST(SweepRun, AMissedFrameSaysWhereTheTagWasLost) {
   }
   const auto sum = lines(summary_csv(r, summarize(r)));
   EXPECT_NE(sum[0].find(",ms_median,lost_no_cluster,lost_no_segment,lost_no_quad,lost_quad_rejected,lost_misread,"
-                        "lost_wrong_id,lost_duplicate,lost_below_margin"),
+                        "lost_wrong_id,lost_duplicate,lost_below_margin,lost_withdrawn"),
             std::string::npos)
       << sum[0];
   for (std::size_t i = 1; i < sum.size(); ++i) {
     const auto f = fields(sum[i]);
-    ASSERT_EQ(f.size(), 33u) << sum[i];
+    ASSERT_EQ(f.size(), 34u) << sum[i];
     const bool ours = f[4].rfind("tagbench", 0) == 0;
     int lost = 0;
-    for (std::size_t k = 25; k < 33; ++k) {
+    for (std::size_t k = 25; k < 34; ++k) {
       EXPECT_EQ(f[k].empty(), !ours) << sum[i];
       if (ours) lost += std::stoi(f[k]);
     }

@@ -115,3 +115,29 @@ TEST(DecodeQuads, QuickRejectAppliesTheBorderPreFilter) {
   EXPECT_TRUE(decode_quads(img, quads, std::span(&f, 1), 2, PayloadOptions{}, nullptr, &readings).empty());
   EXPECT_TRUE(readings.empty());  // rejected before anything was read
 }
+
+// hamming_by_family: each family corrects at most min(max_hamming, (h - 1) / 3) bits, so one max_hamming
+// of 3 lets a 36h11 tag (h = 11) with 3 bits flipped through but not a 16h5 tag (h = 5) with 2 flipped.
+TEST(DecodeQuads, BitsCorrectedByFamilyFollowTheFamilysDistance) {
+  const auto decoded = [](const TagFamily& f, Code flips, int max_hamming, bool by_family) {
+    const Code printed = f.codes()[3] ^ flips;
+    const ImageF img = synth::render_tag(180, 180, tag_cells_for_code(printed, f.payload_width()),
+                                         synth::homography_for(kTruth));
+    const std::vector<Quad> quads = {quad_of(kTruth, 0)};
+    const auto out = decode_quads(img, quads, std::span(&f, 1), max_hamming, PayloadOptions{}, nullptr, nullptr,
+                                  nullptr, by_family);
+    return out.size() == 1 && out[0].id == 3 ? out[0].hamming : -1;
+  };
+  const TagFamily &f36 = builtin_family("36h11"), &f16 = builtin_family("16h5");
+  EXPECT_EQ(decoded(f36, 0x111, 3, true), 3);   // (11 - 1) / 3 = 3
+  EXPECT_EQ(decoded(f36, 0x111, 2, true), -1);  // max_hamming still caps it
+  EXPECT_EQ(decoded(f36, 0x1111, 3, true), -1);
+  EXPECT_EQ(decoded(f16, 0x1, 3, true), 1);     // (5 - 1) / 3 = 1
+  EXPECT_EQ(decoded(f16, 0x11, 3, true), -1);
+  EXPECT_EQ(decoded(f16, 0x11, 3, false), 2);   // off: max_hamming for every family
+  DetectorOptions o;
+  EXPECT_EQ(o.bits_corrected(f36.min_hamming()), 3);
+  EXPECT_EQ(o.bits_corrected(builtin_family("25h9").min_hamming()), 2);
+  EXPECT_EQ(o.bits_corrected(f16.min_hamming()), 1);
+  EXPECT_EQ(DetectorOptions::paper().bits_corrected(f36.min_hamming()), 1);
+}

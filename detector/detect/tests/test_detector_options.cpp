@@ -210,6 +210,7 @@ TEST(DetectorOptions, DefaultsAndBoundariesPass) {
 TEST(DetectorOptions, MaxHammingBelowEveryFamilysDistance) {
   // The smallest minimum distance among the families bounds it: 16h5 (h = 5) allows 0..4.
   DetectorOptions o;
+  o.hamming_by_family = false;
   o.families = {"36h11", "16h5"};
   o.max_hamming = 4;
   EXPECT_EQ(message(o), "");
@@ -221,4 +222,10 @@ TEST(DetectorOptions, MaxHammingBelowEveryFamilysDistance) {
   o.max_hamming = 4;
   EXPECT_NO_THROW(o.validate(loaded));
   EXPECT_THROW(o.validate(std::span(loaded).first(1)), std::invalid_argument);  // not what families names
+  // By family each family is capped at (h - 1) / 3 anyway: only the largest distance bounds it.
+  o.hamming_by_family = true;
+  o.max_hamming = 10;
+  EXPECT_EQ(message(o), "");
+  o.max_hamming = 11;
+  EXPECT_EQ(message(o), "max_hamming = 11: must be in 0..10 (below the minimum Hamming distance 11 of family 36h11)");
 }

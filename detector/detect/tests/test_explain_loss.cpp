@@ -81,6 +81,41 @@ TEST(ExplainLoss, MarginFilterAndBorderPrefilterAreNamed) {
   EXPECT_NE(b.text.find("border pre-filter"), std::string::npos);
 }
 
+// A quad decoded right and not reported: withdrawn when the occlusion refit withdrew its detection
+// (DetectorTrace::withdrawn), else a duplicate (another detection of the id was kept).
+TEST(ExplainLoss, WithdrawnByTheOcclusionRefitIsToldFromADuplicate) {
+  const TagFamily& f = builtin_family("16h5");
+  const Corners truth = synth::square_tag_corners(70, 70, 80, 0.2);
+  DetectorTrace t;
+  t.quads.push_back(Quad{truth, {0, 1, 2, 3}, 320});
+  QuadOutcome o;
+  o.fate = QuadOutcome::Fate::kDecoded;
+  o.family = "16h5";
+  o.id = 3;
+  o.hamming = 0;
+  o.decision_margin = 0.8;
+  o.bits[4] = f.codes()[3];
+  t.quad_outcomes.push_back(o);
+  const DetectorOptions opt = DetectorOptions{};
+  const auto dup = explain_loss({&f, 3, truth}, t, {}, opt);
+  EXPECT_EQ(dup.stage, LossStage::kDuplicate) << dup.text;
+  Detection w;
+  w.family = "16h5";
+  w.id = 3;
+  w.corners = truth;
+  t.withdrawn.push_back(w);
+  const auto e = explain_loss({&f, 3, truth}, t, {}, opt);
+  EXPECT_EQ(e.stage, LossStage::kWithdrawn) << e.text;
+  EXPECT_STREQ(loss_stage_name(e.stage), "withdrawn");
+  EXPECT_NE(e.text.find("occlusion refit"), std::string::npos) << e.text;
+  // A withdrawn detection of another id, or elsewhere, does not speak for this tag.
+  t.withdrawn.back().id = 4;
+  EXPECT_EQ(explain_loss({&f, 3, truth}, t, {}, opt).stage, LossStage::kDuplicate);
+  t.withdrawn.back().id = 3;
+  for (auto& c : t.withdrawn.back().corners) c += Eigen::Vector2d(30, 0);
+  EXPECT_EQ(explain_loss({&f, 3, truth}, t, {}, opt).stage, LossStage::kDuplicate);
+}
+
 TEST(ExplainLoss, MissingSidesAndClustersAreCounted) {
   const TagFamily& f = builtin_family("25h9");
   const Corners truth = synth::square_tag_corners(80, 80, 90, 0.0);

@@ -66,3 +66,25 @@ TEST(PayloadArea, NoContrastOrOffImageGivesNothing) {
   bad.samples_per_side = 0;
   EXPECT_FALSE(read_payload_area(img, H, 6, bad).has_value());
 }
+
+// Cells under small_cell_px are read with small_cell_sharpening, larger ones with sharpening: the
+// reading of a 9 px tag (1.125 px cells) is the one at sharpening 0.75, a 14 px tag's the one at 0.5.
+TEST(PayloadArea, SmallCellsGetTheirOwnSharpening) {
+  const TagFamily& f = builtin_family("36h11");
+  const auto read = [&](double side, double sharpening, double small_px) {
+    const Corners c = synth::square_tag_corners(20.3, 19.6, side, 0.7);
+    const Eigen::Matrix3d H = synth::homography_for(c);
+    const ImageF img = gaussian_blur(synth::render_tag(40, 40, tag_cells(f, 17), H), 0.9);
+    PayloadAreaOptions o;
+    o.sharpening = sharpening;
+    o.small_cell_px = small_px;
+    const auto r = read_payload_area(img, H, 6, o);
+    EXPECT_TRUE(r.has_value());
+    return r ? r->margin : -1.0;
+  };
+  // 9 px: small; the default reading is the 0.75 reading, not the 0.5 one.
+  EXPECT_DOUBLE_EQ(read(9, 0.5, 1.2), read(9, 0.75, 0));
+  EXPECT_NE(read(9, 0.5, 1.2), read(9, 0.5, 0));
+  // 14 px (1.75 px cells): untouched.
+  EXPECT_DOUBLE_EQ(read(14, 0.5, 1.2), read(14, 0.5, 0));
+}

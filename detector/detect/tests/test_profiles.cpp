@@ -58,7 +58,10 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   EXPECT_EQ(d.payload_reader, PayloadReaderKind::kArea);
   EXPECT_FALSE(p.photometric.enabled);
   EXPECT_TRUE(d.photometric.enabled);
-  EXPECT_EQ(p.max_hamming, d.max_hamming);
+  EXPECT_EQ(p.max_hamming, 1);  // the Java default, every family
+  EXPECT_FALSE(p.hamming_by_family);
+  EXPECT_EQ(d.max_hamming, 3);  // capped per family at (h - 1) / 3
+  EXPECT_TRUE(d.hamming_by_family);
   EXPECT_EQ(p.seg_sigma, 0.8);
   p.validate();
   d.validate();
