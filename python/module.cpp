@@ -50,13 +50,16 @@ DetectorOptions profile_options(const std::string& profile) {
   throw std::invalid_argument("profile = '" + profile + "': unknown (known: default, paper)");
 }
 
-DetectorOptions make_options(const std::vector<std::string>& families, int max_hamming, double min_decision_margin,
+DetectorOptions make_options(const std::vector<std::string>& families, const std::optional<int>& max_hamming, double min_decision_margin,
                              const std::optional<std::array<double, 4>>& camera,
                              const std::optional<std::array<double, 5>>& distortion, const std::optional<double>& tag_size,
                              bool half_resolution, const std::string& profile) {
   DetectorOptions o = profile_options(profile);
   o.families = families;
-  o.max_hamming = max_hamming;
+  if (max_hamming) {  // as `tagbench detect --max-hamming K`: K bits for every family
+    o.max_hamming = *max_hamming;
+    o.hamming_by_family = false;
+  }
   o.min_decision_margin = min_decision_margin;
   if (camera) o.camera = CameraIntrinsics{(*camera)[0], (*camera)[1], (*camera)[2], (*camera)[3]};
   o.distortion = distortion;
@@ -120,20 +123,22 @@ PYBIND11_MODULE(tagbench, m) {
       });
 
   py::class_<Detector>(m, "Detector",
-                       "Detector(families=['36h11'], max_hamming=1, min_decision_margin=0, camera=None, "
+                       "Detector(families=['36h11'], max_hamming=None, min_decision_margin=0, camera=None, "
                        "distortion=None, tag_size=None, half_resolution=False, profile='default'). profile: 'default' "
-                       "(DetectorOptions{}) or 'paper' (DetectorOptions::paper(), the 2011 paper's detector); the "
+                       "(DetectorOptions{}) or 'paper' (DetectorOptions::paper(), the 2011 paper's detector). "
+                       "max_hamming: None = the profile's bits (default: by family, 36h11 3, 25h9 2, 16h5 1; paper: 1), "
+                       "K = K bits for every family. The "
                        "other keywords are set on top of the profile's options. camera: "
                        "(fx, fy, cx, cy) pixels; tag_size: the black square's edge, metres (poses need both); "
                        "distortion: OpenCV's (k1, k2, p1, p2, k3). ValueError names a bad option.")
-      .def(py::init([](const std::vector<std::string>& families, int max_hamming, double min_decision_margin,
-                       const std::optional<std::array<double, 4>>& camera,
+      .def(py::init([](const std::vector<std::string>& families, const std::optional<int>& max_hamming,
+                       double min_decision_margin, const std::optional<std::array<double, 4>>& camera,
                        const std::optional<std::array<double, 5>>& distortion, const std::optional<double>& tag_size,
                        bool half_resolution, const std::string& profile) {
              return Detector(make_options(families, max_hamming, min_decision_margin, camera, distortion, tag_size,
                                           half_resolution, profile));
            }),
-           py::kw_only(), py::arg("families") = std::vector<std::string>{"36h11"}, py::arg("max_hamming") = 1,
+           py::kw_only(), py::arg("families") = std::vector<std::string>{"36h11"}, py::arg("max_hamming") = py::none(),
            py::arg("min_decision_margin") = 0.0, py::arg("camera") = py::none(), py::arg("distortion") = py::none(),
            py::arg("tag_size") = py::none(), py::arg("half_resolution") = false, py::arg("profile") = "default")
       .def(
@@ -147,7 +152,9 @@ PYBIND11_MODULE(tagbench, m) {
           "Detections in a 2-D uint8 gray array (not copied; rows contiguous). Releases the GIL: threads "
           "detect in parallel. ValueError for an empty image, one over the pixel limit, or a wrong array.")
       .def_property_readonly("families", [](const Detector& d) { return d.options().families; })
-      .def_property_readonly("max_hamming", [](const Detector& d) { return d.options().max_hamming; });
+      .def_property_readonly("max_hamming", [](const Detector& d) { return d.options().max_hamming; })
+      .def_property_readonly("hamming_by_family", [](const Detector& d) { return d.options().hamming_by_family; },
+                             "True: a family corrects at most min(max_hamming, (h - 1) / 3) bits");
 
   bind_families(m);
 }

@@ -80,6 +80,24 @@ class DetectTest(unittest.TestCase):
             self.assertIn(words, str(cm.exception))
             self.assertNotIn("\n", str(cm.exception))
 
+    def test_bits_corrected_follow_the_profile_unless_given(self):
+        # None keeps the profile's bits (default: by family, at most (h - 1) / 3); K means K for every family.
+        d = tagbench.Detector()
+        self.assertEqual((d.max_hamming, d.hamming_by_family), (3, True))
+        d = tagbench.Detector(max_hamming=1)
+        self.assertEqual((d.max_hamming, d.hamming_by_family), (1, False))
+        d = tagbench.Detector(profile="paper")
+        self.assertEqual((d.max_hamming, d.hamming_by_family), (1, False))
+        # Three payload bits flipped: the default profile corrects them for 36h11, one bit everywhere does not.
+        img = tagbench.render_tag("36h11", 5, px_per_cell=8, margin=16)
+        k = 8
+        for cell in ((2, 2), (4, 5), (6, 3)):  # payload cells (inside the 1-cell black border and white ring)
+            x0, y0 = 16 + (cell[0] + 1) * k, 16 + (cell[1] + 1) * k
+            img[y0 + 2:y0 + k - 2, x0 + 2:x0 + k - 2] = 255 - img[y0 + 2:y0 + k - 2, x0 + 2:x0 + k - 2]
+        found = [(t.id, t.hamming) for t in tagbench.Detector().detect(img)]
+        self.assertEqual(found, [(5, 3)])
+        self.assertEqual(tagbench.Detector(max_hamming=1).detect(img), [])
+
     def test_pose_of_a_frontal_tag(self):
         k, margin, f, size = 10, 40, 600.0, 0.2
         img = tagbench.render_tag("36h11", 11, px_per_cell=k, margin=margin)
