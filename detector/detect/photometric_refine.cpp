@@ -66,9 +66,52 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   const int budget = std::max(opt.max_pixels, static_cast<int>(std::min(1e7, opt.pixels_per_side_px * side)));
   const double area = std::max(0.0, (x1 - x0) * (y1 - y0));
   const int stride = std::max(1, static_cast<int>(std::sqrt(area * 0.4 / (2.0 * budget))));
+  // Blocks of kBlock x kBlock pixels none of whose pixels can pass the tests below are skipped whole
+  // (most of a large tag's area: the cells' insides). Exact, not a heuristic: G maps the block to the
+  // convex hull of its corners' images (w > 0 there), so the corners give the range of u1 and u2
+  // over it; the band is largest where |e| (convex in u) and 1 / w (w affine) are, at the ends.
+  // If the cells over the ranges widened by the largest band are all one colour (or the block is
+  // past the reach), no pixel of it is near a transition. Small tags' cells are too small for this.
+  constexpr int kBlock = 8;
+  const bool blocks = side / (cells.n - 2) >= 2 * kBlock;
+  const int bw = (ix1 - ix0) / kBlock + 1;
+  std::vector<std::uint8_t> skip(blocks && ix1 >= ix0 && iy1 >= iy0 ? static_cast<std::size_t>(bw * ((iy1 - iy0) / kBlock + 1)) : 0, 0);
+  for (std::size_t b = 0; b < skip.size(); ++b) {
+    const int bx = ix0 + static_cast<int>(b) % bw * kBlock, by = iy0 + static_cast<int>(b) / bw * kBlock;
+    double lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY, wmin = INFINITY;
+    for (const auto& [x, y] : {std::pair{bx, by}, {std::min(bx + kBlock - 1, ix1), by}, {bx, std::min(by + kBlock - 1, iy1)},
+                               {std::min(bx + kBlock - 1, ix1), std::min(by + kBlock - 1, iy1)}}) {
+      const double xn = (x - c0.x()) / S, yn = (y - c0.y()) / S;
+      const double w = G(2, 0) * xn + G(2, 1) * yn + 1;
+      const double u1 = (G(0, 0) * xn + G(0, 1) * yn + G(0, 2)) / w, u2 = (G(1, 0) * xn + G(1, 1) * yn + G(1, 2)) / w;
+      wmin = std::min(wmin, w);
+      lo1 = std::min(lo1, u1), hi1 = std::max(hi1, u1), lo2 = std::min(lo2, u2), hi2 = std::max(hi2, u2);
+    }
+    if (!(wmin > 1e-6)) continue;
+    constexpr double eps = 1e-9;  // rounding between this and the pixels' own arithmetic
+    if (lo1 > reach + eps || hi1 < -reach - eps || lo2 > reach + eps || hi2 < -reach - eps) {
+      skip[b] = 1;
+      continue;
+    }
+    const auto band = [&](int row, double u) { return std::hypot(G(row, 0) - u * G(2, 0), G(row, 1) - u * G(2, 1)); };
+    const double b1 = opt.band_px * std::max(band(0, lo1), band(0, hi1)) / (wmin * S) + eps;
+    const double b2 = opt.band_px * std::max(band(1, lo2), band(1, hi2)) / (wmin * S) + eps;
+    const int cx0 = pat.index(lo1 - b1), cx1 = pat.index(hi1 + b1), cy0 = pat.index(lo2 - b2), cy1 = pat.index(hi2 + b2);
+    const bool v = pat.white(cy0, cx0);
+    bool uniform = true;
+    for (int cy = cy0; cy <= cy1 && uniform; ++cy)
+      for (int cx = cx0; cx <= cx1 && uniform; ++cx) uniform = pat.white(cy, cx) == v;
+    skip[b] = uniform;
+  }
   std::vector<Pixel> px;
   for (int y = iy0; y <= iy1; y += stride)
     for (int x = ix0 + (y / stride) % stride; x <= ix1; x += stride) {
+      if (!skip.empty() && skip[static_cast<std::size_t>((y - iy0) / kBlock * bw + (x - ix0) / kBlock)]) {
+        // On to the block's first pixel column on this row's lattice (x = ix0 + offset + k stride).
+        const int next = ix0 + ((x - ix0) / kBlock + 1) * kBlock;
+        x += (next - x + stride - 1) / stride * stride - stride;
+        continue;
+      }
       const double xn = (x - c0.x()) / S, yn = (y - c0.y()) / S;
       const double w = G(2, 0) * xn + G(2, 1) * yn + 1;
       if (!(w > 1e-9)) continue;
