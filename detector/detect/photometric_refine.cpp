@@ -55,9 +55,17 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
 
   // The pixels near a transition of the pattern, inside the reach.
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  for (const auto& [sx, sy] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
-    const Eigen::Vector2d q = map(*H, sx * reach, sy * reach);
-    x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x()), y0 = std::min(y0, q.y()), y1 = std::max(y1, q.y());
+  std::array<Eigen::Vector2d, 4> foot;  // the reach square's image
+  bool convex_view = true;              // all of it in front of the camera: a convex quad
+  {
+    const double wc = (*H)(2, 2);
+    std::size_t k = 0;
+    for (const auto& [sx, sy] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+      const Eigen::Vector3d h = *H * Eigen::Vector3d(sx * reach, sy * reach, 1);
+      convex_view = convex_view && h.z() * wc > 0;
+      const Eigen::Vector2d q = foot[k++] = map(*H, sx * reach, sy * reach);
+      x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x()), y0 = std::min(y0, q.y()), y1 = std::max(y1, q.y());
+    }
   }
   const int ix0 = std::max(0, static_cast<int>(std::ceil(x0))), ix1 = std::min(img.width - 1, static_cast<int>(std::floor(x1)));
   const int iy0 = std::max(0, static_cast<int>(std::ceil(y0))), iy1 = std::min(img.height - 1, static_cast<int>(std::floor(y1)));
@@ -103,9 +111,28 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
       for (int cx = cx0; cx <= cx1 && uniform; ++cx) uniform = pat.white(cy, cx) == v;
     skip[b] = uniform;
   }
+  // Each row from a pixel before the reach's image to one after it (the pixels further out map
+  // past the reach; a rotated tag's bounding box is up to twice its area).
+  const auto row_span = [&](int y, int& xa, int& xb) {
+    xa = ix0, xb = ix1;
+    if (!convex_view) return;
+    double lo = INFINITY, hi = -INFINITY;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const Eigen::Vector2d &a = foot[k], &b = foot[(k + 1) % 4];
+      if (y < std::min(a.y(), b.y()) || y > std::max(a.y(), b.y())) continue;
+      const double x = a.y() == b.y() ? a.x() : a.x() + (y - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      lo = std::min({lo, x, a.y() == b.y() ? b.x() : x}), hi = std::max({hi, x, a.y() == b.y() ? b.x() : x});
+    }
+    if (!(lo <= hi)) return;
+    xa = std::max(ix0, static_cast<int>(std::ceil(lo - 1))), xb = std::min(ix1, static_cast<int>(std::floor(hi + 1)));
+  };
   std::vector<Pixel> px;
-  for (int y = iy0; y <= iy1; y += stride)
-    for (int x = ix0 + (y / stride) % stride; x <= ix1; x += stride) {
+  for (int y = iy0; y <= iy1; y += stride) {
+    int xa, xb;
+    row_span(y, xa, xb);
+    int xs = ix0 + (y / stride) % stride;  // the row's lattice: xs + k stride
+    if (xa > xs) xs += (xa - xs + stride - 1) / stride * stride;
+    for (int x = xs; x <= xb; x += stride) {
       if (!skip.empty() && skip[static_cast<std::size_t>((y - iy0) / kBlock * bw + (x - ix0) / kBlock)]) {
         // On to the block's first pixel column on this row's lattice (x = ix0 + offset + k stride).
         const int next = ix0 + ((x - ix0) / kBlock + 1) * kBlock;
@@ -134,6 +161,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
         for (int i = 0; i < 3 && !edge; ++i) edge = pat.white(cy[j], cx[i]) != v0;
       if (edge) px.push_back({xn, yn, img.at(x, y)});
     }
+  }
   if (static_cast<int>(px.size()) < opt.min_pixels) return std::nullopt;
   if (static_cast<int>(px.size()) > budget) {  // evenly spread subsample
     const double step = static_cast<double>(px.size()) / budget;
