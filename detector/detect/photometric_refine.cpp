@@ -20,8 +20,18 @@ using detail::PhotometricPattern;
 using detail::PhotometricVec;
 
 struct Pixel {
-  double xn, yn;  // normalised image coordinates
-  double value;
+  float xn, yn;  // normalised image coordinates
+  float value;
+};
+
+// One row of the pixel selection: candidate columns and their per-pixel values.
+struct RowScratch {
+  std::vector<int> x, ok;
+  std::vector<float> xn, u1, u2, b1, b2;
+  void resize(int m) {
+    const auto k = static_cast<std::size_t>(m);
+    ok.resize(k), xn.resize(k), u1.resize(k), u2.resize(k), b1.resize(k), b2.resize(k);
+  }
 };
 
 Eigen::Vector2d map(const Eigen::Matrix3d& M, double x, double y) {
@@ -96,7 +106,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
       lo1 = std::min(lo1, u1), hi1 = std::max(hi1, u1), lo2 = std::min(lo2, u2), hi2 = std::max(hi2, u2);
     }
     if (!(wmin > 1e-6)) continue;
-    constexpr double eps = 1e-9;  // rounding between this and the pixels' own arithmetic
+    constexpr double eps = 1e-5;  // rounding between this and the pixels' (single-precision) arithmetic
     if (lo1 > reach + eps || hi1 < -reach - eps || lo2 > reach + eps || hi2 < -reach - eps) {
       skip[b] = 1;
       continue;
@@ -126,12 +136,24 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
     if (!(lo <= hi)) return;
     xa = std::max(ix0, static_cast<int>(std::ceil(lo - 1))), xb = std::min(ix1, static_cast<int>(std::floor(hi + 1)));
   };
+  // Per row, the pixels' tag coordinates and bands in single precision over arrays (plain loops the
+  // compiler vectorises), then, for those near a grid line, the pattern: a cell within the band
+  // either way (3 columns and 3 rows) differs from the pixel's own. When the band is under a cell
+  // (so the 3 columns/rows are the pixel's cell and its neighbours) that is one mask test on the
+  // cell's neighbourhood bits.
+  RowScratch r;
   std::vector<Pixel> px;
+  const float fS = static_cast<float>(S), fcx = static_cast<float>(c0.x()), band_s = static_cast<float>(opt.band_px / S);
+  const float g00 = static_cast<float>(G(0, 0)), g01 = static_cast<float>(G(0, 1)), g10 = static_cast<float>(G(1, 0)),
+              g11 = static_cast<float>(G(1, 1)), g20 = static_cast<float>(G(2, 0)), g21 = static_cast<float>(G(2, 1));
+  const float freach = static_cast<float>(reach), cell = static_cast<float>(pat.cell), inv_cell = 1 / cell;
+  const int stride_n = pat.n + 2, n = pat.n;
   for (int y = iy0; y <= iy1; y += stride) {
     int xa, xb;
     row_span(y, xa, xb);
     int xs = ix0 + (y / stride) % stride;  // the row's lattice: xs + k stride
     if (xa > xs) xs += (xa - xs + stride - 1) / stride * stride;
+    r.x.clear();
     for (int x = xs; x <= xb; x += stride) {
       if (!skip.empty() && skip[static_cast<std::size_t>((y - iy0) / kBlock * bw + (x - ix0) / kBlock)]) {
         // On to the block's first pixel column on this row's lattice (x = ix0 + offset + k stride).
@@ -139,27 +161,51 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
         x += (next - x + stride - 1) / stride * stride - stride;
         continue;
       }
-      const double xn = (x - c0.x()) / S, yn = (y - c0.y()) / S;
-      const double w = G(2, 0) * xn + G(2, 1) * yn + 1;
-      if (!(w > 1e-9)) continue;
-      const double u1 = (G(0, 0) * xn + G(0, 1) * yn + G(0, 2)) / w, u2 = (G(1, 0) * xn + G(1, 1) * yn + G(1, 2)) / w;
-      if (std::abs(u1) > reach || std::abs(u2) > reach) continue;
-      const double e1 = G(0, 0) - u1 * G(2, 0), e2 = G(0, 1) - u1 * G(2, 1);
-      const double f1 = G(1, 0) - u2 * G(2, 0), f2 = G(1, 1) - u2 * G(2, 1);
-      const double b1 = opt.band_px * std::sqrt(e1 * e1 + e2 * e2) / (w * S);
-      const double b2 = opt.band_px * std::sqrt(f1 * f1 + f2 * f2) / (w * S);
-      // Farther than the band from every grid line: inside one cell, no transition near.
-      const double g1 = (u1 + 1) / pat.cell, g2 = (u2 + 1) / pat.cell;
-      const double f1n = g1 + 64.5 - static_cast<int>(g1 + 64.5), f2n = g2 + 64.5 - static_cast<int>(g2 + 64.5);
-      if (std::abs(f1n - 0.5) * pat.cell > b1 && std::abs(f2n - 0.5) * pat.cell > b2) continue;
-      // A cell within the band either way differs: 3 columns and 3 rows, looked up once each.
-      const int cx[3] = {pat.index(u1 - b1), pat.index(u1), pat.index(u1 + b1)};
-      const int cy[3] = {pat.index(u2 - b2), pat.index(u2), pat.index(u2 + b2)};
-      const bool v0 = pat.white(cy[1], cx[1]);
+      r.x.push_back(x);
+    }
+    const int m = static_cast<int>(r.x.size());
+    r.resize(m);
+    const float yn = static_cast<float>((y - c0.y()) / S);
+    const float aw = static_cast<float>(G(2, 1) * yn + 1), a1 = static_cast<float>(G(0, 1) * yn + G(0, 2)),
+                a2 = static_cast<float>(G(1, 1) * yn + G(1, 2));
+    const int* rx = r.x.data();
+    float *xn_ = r.xn.data(), *u1_ = r.u1.data(), *u2_ = r.u2.data(), *b1_ = r.b1.data(), *b2_ = r.b2.data();
+    int* ok_ = r.ok.data();
+    for (int k = 0; k < m; ++k) {
+      const float xn = (static_cast<float>(rx[k]) - fcx) / fS;
+      const float w = g20 * xn + aw;
+      const float iw = 1 / w;
+      const float u1 = (g00 * xn + a1) * iw, u2 = (g10 * xn + a2) * iw;
+      const float e1 = g00 - u1 * g20, e2 = g01 - u1 * g21, f1 = g10 - u2 * g20, f2 = g11 - u2 * g21;
+      const float b1 = band_s * std::sqrt(e1 * e1 + e2 * e2) * iw, b2 = band_s * std::sqrt(f1 * f1 + f2 * f2) * iw;
+      const bool in = w > 1e-9f && std::abs(u1) <= freach && std::abs(u2) <= freach;
+      // Distance to the nearest grid line, per axis (clamped first: outside the reach it is not used).
+      const float g1 = std::clamp((u1 + 1) * inv_cell, -32.0f, 32.0f) + 64.5f, g2 = std::clamp((u2 + 1) * inv_cell, -32.0f, 32.0f) + 64.5f;
+      const float d1 = std::abs(g1 - static_cast<float>(static_cast<int>(g1)) - 0.5f) * cell;
+      const float d2 = std::abs(g2 - static_cast<float>(static_cast<int>(g2)) - 0.5f) * cell;
+      xn_[k] = xn, u1_[k] = u1, u2_[k] = u2, b1_[k] = b1, b2_[k] = b2;
+      ok_[k] = in && (d1 <= b1 || d2 <= b2);
+    }
+    const auto index = [&](float u) { return std::clamp(static_cast<int>((u + 1) * inv_cell + 64) - 63, -1, n); };
+    for (int k = 0; k < m; ++k) {
+      if (!ok_[k]) continue;
+      const float u1 = u1_[k], u2 = u2_[k], b1 = b1_[k], b2 = b2_[k];
+      const int cx[3] = {index(u1 - b1), index(u1), index(u1 + b1)};
+      const int cy[3] = {index(u2 - b2), index(u2), index(u2 + b2)};
       bool edge = false;
-      for (int j = 0; j < 3 && !edge; ++j)
-        for (int i = 0; i < 3 && !edge; ++i) edge = pat.white(cy[j], cx[i]) != v0;
-      if (edge) px.push_back({xn, yn, img.at(x, y)});
+      if (cx[1] - cx[0] <= 1 && cx[2] - cx[1] <= 1 && cy[1] - cy[0] <= 1 && cy[2] - cy[1] <= 1) {
+        const unsigned bits = pat.neighbours[static_cast<std::size_t>((cy[1] + 1) * stride_n + cx[1] + 1)];
+        const unsigned cols = 2u | (cx[0] < cx[1] ? 1u : 0u) | (cx[2] > cx[1] ? 4u : 0u);
+        unsigned sel = cols << 3;
+        if (cy[0] < cy[1]) sel |= cols;
+        if (cy[2] > cy[1]) sel |= cols << 6;
+        edge = ((bits ^ ((bits >> 4) & 1u ? 0x1FFu : 0u)) & sel) != 0;
+      } else {
+        const bool v0 = pat.white(cy[1], cx[1]);
+        for (int j = 0; j < 3 && !edge; ++j)
+          for (int i = 0; i < 3 && !edge; ++i) edge = pat.white(cy[j], cx[i]) != v0;
+      }
+      if (edge) px.push_back({xn_[k], yn, img.at(rx[k], y)});
     }
   }
   if (static_cast<int>(px.size()) < opt.min_pixels) return std::nullopt;
@@ -171,10 +217,11 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
     px.swap(keep);
   }
   detail::PhotometricSamples samples;
+  samples.xn.reserve(px.size()), samples.yn.reserve(px.size()), samples.value.reserve(px.size());
   for (const Pixel& q : px) {
-    samples.xn.push_back(static_cast<float>(q.xn));
-    samples.yn.push_back(static_cast<float>(q.yn));
-    samples.value.push_back(static_cast<float>(q.value));
+    samples.xn.push_back(q.xn);
+    samples.yn.push_back(q.yn);
+    samples.value.push_back(q.value);
   }
 
   // Start: black and white levels from the pixels' 10th and 90th percentiles, no shading.
