@@ -27,10 +27,10 @@ struct Pixel {
 // One row of the pixel selection: candidate columns and their per-pixel values.
 struct RowScratch {
   std::vector<int> x, ok;
-  std::vector<float> xn, u1, u2, b1, b2;
+  std::vector<float> xn, w, u1, u2, b1, b2, d1, d2;
   void resize(int m) {
     const auto k = static_cast<std::size_t>(m);
-    ok.resize(k), xn.resize(k), u1.resize(k), u2.resize(k), b1.resize(k), b2.resize(k);
+    ok.resize(k), xn.resize(k), w.resize(k), u1.resize(k), u2.resize(k), b1.resize(k), b2.resize(k), d1.resize(k), d2.resize(k);
   }
 };
 
@@ -169,23 +169,26 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
     const float aw = static_cast<float>(G(2, 1) * yn + 1), a1 = static_cast<float>(G(0, 1) * yn + G(0, 2)),
                 a2 = static_cast<float>(G(1, 1) * yn + G(1, 2));
     const int* rx = r.x.data();
-    float *xn_ = r.xn.data(), *u1_ = r.u1.data(), *u2_ = r.u2.data(), *b1_ = r.b1.data(), *b2_ = r.b2.data();
-    int* ok_ = r.ok.data();
-    for (int k = 0; k < m; ++k) {
-      const float xn = (static_cast<float>(rx[k]) - fcx) / fS;
-      const float w = g20 * xn + aw;
-      const float iw = 1 / w;
-      const float u1 = (g00 * xn + a1) * iw, u2 = (g10 * xn + a2) * iw;
-      const float e1 = g00 - u1 * g20, e2 = g01 - u1 * g21, f1 = g10 - u2 * g20, f2 = g11 - u2 * g21;
-      const float b1 = band_s * std::sqrt(e1 * e1 + e2 * e2) * iw, b2 = band_s * std::sqrt(f1 * f1 + f2 * f2) * iw;
-      const bool in = w > 1e-9f && std::abs(u1) <= freach && std::abs(u2) <= freach;
-      // Distance to the nearest grid line, per axis (clamped first: outside the reach it is not used).
-      const float g1 = std::clamp((u1 + 1) * inv_cell, -32.0f, 32.0f) + 64.5f, g2 = std::clamp((u2 + 1) * inv_cell, -32.0f, 32.0f) + 64.5f;
-      const float d1 = std::abs(g1 - static_cast<float>(static_cast<int>(g1)) - 0.5f) * cell;
-      const float d2 = std::abs(g2 - static_cast<float>(static_cast<int>(g2)) - 0.5f) * cell;
-      xn_[k] = xn, u1_[k] = u1, u2_[k] = u2, b1_[k] = b1, b2_[k] = b2;
-      ok_[k] = in && (d1 <= b1 || d2 <= b2);
-    }
+    // Eigen's packets for the arithmetic (its sqrt vectorises; the library's, which may set errno, does not).
+    using FMap = Eigen::Map<Eigen::ArrayXf>;
+    FMap xn(r.xn.data(), m), w(r.w.data(), m), u1(r.u1.data(), m), u2(r.u2.data(), m), b1(r.b1.data(), m), b2(r.b2.data(), m);
+    xn = (Eigen::Map<const Eigen::ArrayXi>(rx, m).cast<float>() - fcx) / fS;
+    w = g20 * xn + aw;
+    b2 = w.inverse();  // 1 / w until the last line
+    u1 = (g00 * xn + a1) * b2;
+    u2 = (g10 * xn + a2) * b2;
+    b1 = band_s * ((g00 - u1 * g20).square() + (g01 - u1 * g21).square()).sqrt() * b2;
+    b2 = band_s * ((g10 - u2 * g20).square() + (g11 - u2 * g21).square()).sqrt() * b2;
+    // Distance to the nearest grid line, per axis (clamped first: outside the reach it is not used).
+    FMap d1(r.d1.data(), m), d2(r.d2.data(), m);
+    d1 = ((u1 + 1.0f) * inv_cell).max(-32.0f).min(32.0f) + 64.5f;
+    d1 = (d1 - d1.cast<int>().cast<float>() - 0.5f).abs() * cell;
+    d2 = ((u2 + 1.0f) * inv_cell).max(-32.0f).min(32.0f) + 64.5f;
+    d2 = (d2 - d2.cast<int>().cast<float>() - 0.5f).abs() * cell;
+    Eigen::Map<Eigen::ArrayXi>(r.ok.data(), m) =
+        ((w > 1e-9f) && (u1.abs() <= freach) && (u2.abs() <= freach) && ((d1 <= b1) || (d2 <= b2))).cast<int>();
+    const float *xn_ = r.xn.data(), *u1_ = r.u1.data(), *u2_ = r.u2.data(), *b1_ = r.b1.data(), *b2_ = r.b2.data();
+    const int* ok_ = r.ok.data();
     const auto index = [&](float u) { return std::clamp(static_cast<int>((u + 1) * inv_cell + 64) - 63, -1, n); };
     for (int k = 0; k < m; ++k) {
       if (!ok_[k]) continue;
