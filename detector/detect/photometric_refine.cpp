@@ -9,147 +9,30 @@
 #include <Eigen/Dense>
 
 #include "detect/detector.hpp"
+#include "detect/photometric_model.hpp"
 
 namespace tagbench {
 namespace {
 
-constexpr int kParams = 15;  // g11 g12 g13 g21 g22 g23 g31 g32 | a0 a1 a2 | b0 b1 b2 | sigma
-constexpr int kSigma = 14;
-using Vec = Eigen::Matrix<double, kParams, 1>;
-using Mat = Eigen::Matrix<double, kParams, kParams>;
-
-// Phi(z) and phi(z) with one exp (Abramowitz & Stegun 7.1.26, |error| < 1.5e-7): enough for a model
-// whose residuals are intensity quantisation steps.
-inline void normal_cdf_pdf(double z, double& cdf, double& pdf) {
-  const double e = std::exp(-0.5 * z * z);
-  pdf = 0.3989422804014327 * e;
-  const double x = std::abs(z) * 0.7071067811865476;
-  const double t = 1 / (1 + 0.3275911 * x);
-  const double erfc = t * (0.254829592 + t * (-0.284496736 + t * (1.421413741 + t * (-1.453152027 + t * 1.061405429)))) * e;
-  cdf = z >= 0 ? 1 - 0.5 * erfc : 0.5 * erfc;
-}
-
-// The printed cells padded by one white cell all round (past the white ring the model assumes white),
-// so the hot loop indexes without bounds checks; indices are clamped into the padding.
-struct Pattern {
-  explicit Pattern(const TagCells& c) : n(c.n), cell(2.0 / (c.n - 2)), padded(static_cast<std::size_t>((c.n + 2) * (c.n + 2)), 1) {
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) padded[static_cast<std::size_t>((y + 1) * (n + 2) + x + 1)] = c.at(y, x) ? 1 : 0;
-  }
-  int n;
-  double cell;  // tag units per cell, 2 / (d + 2)
-  std::vector<std::uint8_t> padded;
-  // Grid column/row of tag coordinate u (the black square's left edge is grid line 1), clamped to
-  // -1..n; truncation after a positive shift is floor() without the library call.
-  int index(double u) const { return std::clamp(static_cast<int>((u + 1) / cell + 64) - 63, -1, n); }
-  double line(int k) const { return -1 + (k - 1) * cell; }  // tag coordinate of grid line k
-  double value(int iy, int ix) const {
-    ix = std::clamp(ix, -1, n), iy = std::clamp(iy, -1, n);
-    return padded[static_cast<std::size_t>((iy + 1) * (n + 2) + ix + 1)];
-  }
-};
-
-// One axis of the blurred pattern at u (tag units) with blur s (tag units): the weights of the three
-// columns ix-1, ix, ix+1 (the outer two absorb everything beyond them), their derivatives in u and in
-// sigma (given s = sigma * k, d/dsigma = (s / sigma) d/ds).
-struct Axis {
-  int i0;
-  std::array<double, 3> w, du, ds;
-};
-inline Axis axis(const Pattern& pat, double u, double s, double sigma) {
-  Axis a;
-  const int ix = pat.index(u);
-  a.i0 = ix - 1;
-  double P1, p1, P2, p2;
-  const double z1 = (u - pat.line(ix)) / s, z2 = (u - pat.line(ix + 1)) / s;
-  normal_cdf_pdf(z1, P1, p1);
-  normal_cdf_pdf(z2, P2, p2);
-  a.w = {1 - P1, P1 - P2, P2};
-  a.du = {-p1 / s, (p1 - p2) / s, p2 / s};
-  // d Phi(z)/d sigma = -phi(z) z / sigma
-  a.ds = {p1 * z1 / sigma, (-p1 * z1 + p2 * z2) / sigma, -p2 * z2 / sigma};
-  return a;
-}
+using detail::kPhotometricSigma;
+using detail::PhotometricMat;
+using detail::PhotometricPattern;
+using detail::PhotometricVec;
 
 struct Pixel {
-  double xn, yn;  // normalised image coordinates
-  double value;
+  float xn, yn;  // normalised image coordinates
+  float value;
 };
 
-struct Problem {
-  const Pattern& pat;
-  const std::vector<Pixel>& px;
-  double scale;  // pixels per normalised unit
+// One row of the pixel selection: candidate columns and their per-pixel values.
+struct RowScratch {
+  std::vector<int> x, ok;
+  std::vector<float> xn, w, u1, u2, b1, b2, d1, d2;
+  void resize(int m) {
+    const auto k = static_cast<std::size_t>(m);
+    ok.resize(k), xn.resize(k), w.resize(k), u1.resize(k), u2.resize(k), b1.resize(k), b2.resize(k), d1.resize(k), d2.resize(k);
+  }
 };
-
-// Model, residual and (optionally) Jacobian row at one pixel; false if the pixel maps behind the view.
-inline bool evaluate(const Problem& pb, const Vec& p, const Pixel& q, double& r, Vec* J) {
-  const double w = p(6) * q.xn + p(7) * q.yn + 1;
-  if (!(w > 1e-9)) return false;
-  const double u1 = (p(0) * q.xn + p(1) * q.yn + p(2)) / w, u2 = (p(3) * q.xn + p(4) * q.yn + p(5)) / w;
-  // Tag units per image pixel along each tag axis (the gradient norms of u1 and u2 in pixels).
-  const double e1 = p(0) - u1 * p(6), e2 = p(1) - u1 * p(7), f1 = p(3) - u2 * p(6), f2 = p(4) - u2 * p(7);
-  const double k1 = std::sqrt(e1 * e1 + e2 * e2) / (w * pb.scale), k2 = std::sqrt(f1 * f1 + f2 * f2) / (w * pb.scale);
-  const double sigma = p(kSigma);
-  const Axis ax = axis(pb.pat, u1, sigma * k1, sigma), ay = axis(pb.pat, u2, sigma * k2, sigma);
-  double T = 0, T1 = 0, T2 = 0, Ts = 0;
-  for (int j = 0; j < 3; ++j) {  // row sums over the white cells, then the rows' weights
-    double rw = 0, rdu = 0, rds = 0;
-    for (int i = 0; i < 3; ++i)
-      if (pb.pat.value(ay.i0 + j, ax.i0 + i) != 0) rw += ax.w[i], rdu += ax.du[i], rds += ax.ds[i];
-    T += ay.w[j] * rw;
-    T1 += ay.w[j] * rdu;
-    T2 += ay.du[j] * rw;
-    Ts += ay.w[j] * rds + ay.ds[j] * rw;
-  }
-  const double A = p(8) + p(9) * q.xn + p(10) * q.yn, B = p(11) + p(12) * q.xn + p(13) * q.yn;
-  r = q.value - (A + B * T);
-  if (J) {
-    const double m1 = B * T1, m2 = B * T2;
-    Vec& g = *J;
-    g(0) = m1 * q.xn / w;
-    g(1) = m1 * q.yn / w;
-    g(2) = m1 / w;
-    g(3) = m2 * q.xn / w;
-    g(4) = m2 * q.yn / w;
-    g(5) = m2 / w;
-    g(6) = -(m1 * u1 + m2 * u2) * q.xn / w;
-    g(7) = -(m1 * u1 + m2 * u2) * q.yn / w;
-    g(8) = 1;
-    g(9) = q.xn;
-    g(10) = q.yn;
-    g(11) = T;
-    g(12) = T * q.xn;
-    g(13) = T * q.yn;
-    g(14) = B * Ts;
-  }
-  return true;
-}
-
-// Huber cost over the pixels, and the weighted normal equations (IRLS weights): the Jacobian's
-// rows, scaled by the square roots of their weights, go into `rows` (one column per pixel) and
-// J^T W J is one symmetric rank update over them (Eigen's blocked kernel: a third of the
-// instructions of a per-pixel outer product).
-double accumulate(const Problem& pb, const Vec& p, double huber, Eigen::Matrix<double, kParams, Eigen::Dynamic>& rows,
-                  Mat& JtJ, Vec& Jtr) {
-  double cost = 0;
-  Jtr.setZero();
-  Vec g;
-  Eigen::Index n = 0;
-  for (const Pixel& q : pb.px) {
-    double r;
-    if (!evaluate(pb, p, q, r, &g)) return INFINITY;
-    const double a = std::abs(r);
-    const double wt = a <= huber ? 1 : huber / a;
-    cost += a <= huber ? 0.5 * r * r : huber * (a - 0.5 * huber);
-    Jtr += (wt * r) * g;
-    rows.col(n++) = wt == 1 ? g : std::sqrt(wt) * g;
-  }
-  JtJ.setZero();
-  JtJ.selfadjointView<Eigen::Lower>().rankUpdate(rows.leftCols(n));
-  JtJ = JtJ.selfadjointView<Eigen::Lower>();
-  return cost;
-}
 
 Eigen::Vector2d map(const Eigen::Matrix3d& M, double x, double y) {
   const Eigen::Vector3d q = M * Eigen::Vector3d(x, y, 1);
@@ -177,14 +60,22 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   if (!(std::abs(G(2, 2)) > 1e-12)) return std::nullopt;
   G /= G(2, 2);
 
-  const Pattern pat(cells);
+  const PhotometricPattern pat(cells);
   const double reach = 1 + opt.margin_cells * pat.cell;
 
   // The pixels near a transition of the pattern, inside the reach.
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  for (const auto& [sx, sy] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
-    const Eigen::Vector2d q = map(*H, sx * reach, sy * reach);
-    x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x()), y0 = std::min(y0, q.y()), y1 = std::max(y1, q.y());
+  std::array<Eigen::Vector2d, 4> foot;  // the reach square's image
+  bool convex_view = true;              // all of it in front of the camera: a convex quad
+  {
+    const double wc = (*H)(2, 2);
+    std::size_t k = 0;
+    for (const auto& [sx, sy] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+      const Eigen::Vector3d h = *H * Eigen::Vector3d(sx * reach, sy * reach, 1);
+      convex_view = convex_view && h.z() * wc > 0;
+      const Eigen::Vector2d q = foot[k++] = map(*H, sx * reach, sy * reach);
+      x0 = std::min(x0, q.x()), x1 = std::max(x1, q.x()), y0 = std::min(y0, q.y()), y1 = std::max(y1, q.y());
+    }
   }
   const int ix0 = std::max(0, static_cast<int>(std::ceil(x0))), ix1 = std::min(img.width - 1, static_cast<int>(std::floor(x1)));
   const int iy0 = std::max(0, static_cast<int>(std::ceil(y0))), iy1 = std::min(img.height - 1, static_cast<int>(std::floor(y1)));
@@ -193,29 +84,133 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   const int budget = std::max(opt.max_pixels, static_cast<int>(std::min(1e7, opt.pixels_per_side_px * side)));
   const double area = std::max(0.0, (x1 - x0) * (y1 - y0));
   const int stride = std::max(1, static_cast<int>(std::sqrt(area * 0.4 / (2.0 * budget))));
-  std::vector<Pixel> px;
-  for (int y = iy0; y <= iy1; y += stride)
-    for (int x = ix0 + (y / stride) % stride; x <= ix1; x += stride) {
+  // Blocks of kBlock x kBlock pixels none of whose pixels can pass the tests below are skipped whole
+  // (most of a large tag's area: the cells' insides). Exact, not a heuristic: G maps the block to the
+  // convex hull of its corners' images (w > 0 there), so the corners give the range of u1 and u2
+  // over it; the band is largest where |e| (convex in u) and 1 / w (w affine) are, at the ends.
+  // If the cells over the ranges widened by the largest band are all one colour (or the block is
+  // past the reach), no pixel of it is near a transition. Small tags' cells are too small for this.
+  constexpr int kBlock = 8;
+  const bool blocks = side / (cells.n - 2) >= 2 * kBlock;
+  const int bw = (ix1 - ix0) / kBlock + 1;
+  std::vector<std::uint8_t> skip(blocks && ix1 >= ix0 && iy1 >= iy0 ? static_cast<std::size_t>(bw * ((iy1 - iy0) / kBlock + 1)) : 0, 0);
+  for (std::size_t b = 0; b < skip.size(); ++b) {
+    const int bx = ix0 + static_cast<int>(b) % bw * kBlock, by = iy0 + static_cast<int>(b) / bw * kBlock;
+    double lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY, wmin = INFINITY;
+    for (const auto& [x, y] : {std::pair{bx, by}, {std::min(bx + kBlock - 1, ix1), by}, {bx, std::min(by + kBlock - 1, iy1)},
+                               {std::min(bx + kBlock - 1, ix1), std::min(by + kBlock - 1, iy1)}}) {
       const double xn = (x - c0.x()) / S, yn = (y - c0.y()) / S;
       const double w = G(2, 0) * xn + G(2, 1) * yn + 1;
-      if (!(w > 1e-9)) continue;
       const double u1 = (G(0, 0) * xn + G(0, 1) * yn + G(0, 2)) / w, u2 = (G(1, 0) * xn + G(1, 1) * yn + G(1, 2)) / w;
-      if (std::abs(u1) > reach || std::abs(u2) > reach) continue;
-      const double e1 = G(0, 0) - u1 * G(2, 0), e2 = G(0, 1) - u1 * G(2, 1);
-      const double f1 = G(1, 0) - u2 * G(2, 0), f2 = G(1, 1) - u2 * G(2, 1);
-      const double b1 = opt.band_px * std::sqrt(e1 * e1 + e2 * e2) / (w * S);
-      const double b2 = opt.band_px * std::sqrt(f1 * f1 + f2 * f2) / (w * S);
-      // Farther than the band from every grid line: inside one cell, no transition near.
-      const double g1 = (u1 + 1) / pat.cell, g2 = (u2 + 1) / pat.cell;
-      const double f1n = g1 + 64.5 - static_cast<int>(g1 + 64.5), f2n = g2 + 64.5 - static_cast<int>(g2 + 64.5);
-      if (std::abs(f1n - 0.5) * pat.cell > b1 && std::abs(f2n - 0.5) * pat.cell > b2) continue;
-      const double v0 = pat.value(pat.index(u2), pat.index(u1));
-      bool edge = false;
-      for (int j = -1; j <= 1 && !edge; ++j)
-        for (int i = -1; i <= 1 && !edge; ++i)
-          edge = pat.value(pat.index(u2 + j * b2), pat.index(u1 + i * b1)) != v0;
-      if (edge) px.push_back({xn, yn, img.at(x, y)});
+      wmin = std::min(wmin, w);
+      lo1 = std::min(lo1, u1), hi1 = std::max(hi1, u1), lo2 = std::min(lo2, u2), hi2 = std::max(hi2, u2);
     }
+    if (!(wmin > 1e-6)) continue;
+    constexpr double eps = 1e-5;  // rounding between this and the pixels' (single-precision) arithmetic
+    if (lo1 > reach + eps || hi1 < -reach - eps || lo2 > reach + eps || hi2 < -reach - eps) {
+      skip[b] = 1;
+      continue;
+    }
+    const auto band = [&](int row, double u) { return std::hypot(G(row, 0) - u * G(2, 0), G(row, 1) - u * G(2, 1)); };
+    const double b1 = opt.band_px * std::max(band(0, lo1), band(0, hi1)) / (wmin * S) + eps;
+    const double b2 = opt.band_px * std::max(band(1, lo2), band(1, hi2)) / (wmin * S) + eps;
+    const int cx0 = pat.index(lo1 - b1), cx1 = pat.index(hi1 + b1), cy0 = pat.index(lo2 - b2), cy1 = pat.index(hi2 + b2);
+    const bool v = pat.white(cy0, cx0);
+    bool uniform = true;
+    for (int cy = cy0; cy <= cy1 && uniform; ++cy)
+      for (int cx = cx0; cx <= cx1 && uniform; ++cx) uniform = pat.white(cy, cx) == v;
+    skip[b] = uniform;
+  }
+  // Each row from a pixel before the reach's image to one after it (the pixels further out map
+  // past the reach; a rotated tag's bounding box is up to twice its area).
+  const auto row_span = [&](int y, int& xa, int& xb) {
+    xa = ix0, xb = ix1;
+    if (!convex_view) return;
+    double lo = INFINITY, hi = -INFINITY;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const Eigen::Vector2d &a = foot[k], &b = foot[(k + 1) % 4];
+      if (y < std::min(a.y(), b.y()) || y > std::max(a.y(), b.y())) continue;
+      const double x = a.y() == b.y() ? a.x() : a.x() + (y - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      lo = std::min({lo, x, a.y() == b.y() ? b.x() : x}), hi = std::max({hi, x, a.y() == b.y() ? b.x() : x});
+    }
+    if (!(lo <= hi)) return;
+    xa = std::max(ix0, static_cast<int>(std::ceil(lo - 1))), xb = std::min(ix1, static_cast<int>(std::floor(hi + 1)));
+  };
+  // Per row, the pixels' tag coordinates and bands in single precision over arrays (plain loops the
+  // compiler vectorises), then, for those near a grid line, the pattern: a cell within the band
+  // either way (3 columns and 3 rows) differs from the pixel's own. When the band is under a cell
+  // (so the 3 columns/rows are the pixel's cell and its neighbours) that is one mask test on the
+  // cell's neighbourhood bits.
+  RowScratch r;
+  std::vector<Pixel> px;
+  const float fS = static_cast<float>(S), fcx = static_cast<float>(c0.x()), band_s = static_cast<float>(opt.band_px / S);
+  const float g00 = static_cast<float>(G(0, 0)), g01 = static_cast<float>(G(0, 1)), g10 = static_cast<float>(G(1, 0)),
+              g11 = static_cast<float>(G(1, 1)), g20 = static_cast<float>(G(2, 0)), g21 = static_cast<float>(G(2, 1));
+  const float freach = static_cast<float>(reach), cell = static_cast<float>(pat.cell), inv_cell = 1 / cell;
+  const int stride_n = pat.n + 2, n = pat.n;
+  for (int y = iy0; y <= iy1; y += stride) {
+    int xa, xb;
+    row_span(y, xa, xb);
+    int xs = ix0 + (y / stride) % stride;  // the row's lattice: xs + k stride
+    if (xa > xs) xs += (xa - xs + stride - 1) / stride * stride;
+    r.x.clear();
+    for (int x = xs; x <= xb; x += stride) {
+      if (!skip.empty() && skip[static_cast<std::size_t>((y - iy0) / kBlock * bw + (x - ix0) / kBlock)]) {
+        // On to the block's first pixel column on this row's lattice (x = ix0 + offset + k stride).
+        const int next = ix0 + ((x - ix0) / kBlock + 1) * kBlock;
+        x += (next - x + stride - 1) / stride * stride - stride;
+        continue;
+      }
+      r.x.push_back(x);
+    }
+    const int m = static_cast<int>(r.x.size());
+    r.resize(m);
+    const float yn = static_cast<float>((y - c0.y()) / S);
+    const float aw = static_cast<float>(G(2, 1) * yn + 1), a1 = static_cast<float>(G(0, 1) * yn + G(0, 2)),
+                a2 = static_cast<float>(G(1, 1) * yn + G(1, 2));
+    const int* rx = r.x.data();
+    // Eigen's packets for the arithmetic (its sqrt vectorises; the library's, which may set errno, does not).
+    using FMap = Eigen::Map<Eigen::ArrayXf>;
+    FMap xn(r.xn.data(), m), w(r.w.data(), m), u1(r.u1.data(), m), u2(r.u2.data(), m), b1(r.b1.data(), m), b2(r.b2.data(), m);
+    xn = (Eigen::Map<const Eigen::ArrayXi>(rx, m).cast<float>() - fcx) / fS;
+    w = g20 * xn + aw;
+    b2 = w.inverse();  // 1 / w until the last line
+    u1 = (g00 * xn + a1) * b2;
+    u2 = (g10 * xn + a2) * b2;
+    b1 = band_s * ((g00 - u1 * g20).square() + (g01 - u1 * g21).square()).sqrt() * b2;
+    b2 = band_s * ((g10 - u2 * g20).square() + (g11 - u2 * g21).square()).sqrt() * b2;
+    // Distance to the nearest grid line, per axis (clamped first: outside the reach it is not used).
+    FMap d1(r.d1.data(), m), d2(r.d2.data(), m);
+    d1 = ((u1 + 1.0f) * inv_cell).max(-32.0f).min(32.0f) + 64.5f;
+    d1 = (d1 - d1.cast<int>().cast<float>() - 0.5f).abs() * cell;
+    d2 = ((u2 + 1.0f) * inv_cell).max(-32.0f).min(32.0f) + 64.5f;
+    d2 = (d2 - d2.cast<int>().cast<float>() - 0.5f).abs() * cell;
+    Eigen::Map<Eigen::ArrayXi>(r.ok.data(), m) =
+        ((w > 1e-9f) && (u1.abs() <= freach) && (u2.abs() <= freach) && ((d1 <= b1) || (d2 <= b2))).cast<int>();
+    const float *xn_ = r.xn.data(), *u1_ = r.u1.data(), *u2_ = r.u2.data(), *b1_ = r.b1.data(), *b2_ = r.b2.data();
+    const int* ok_ = r.ok.data();
+    const auto index = [&](float u) { return std::clamp(static_cast<int>((u + 1) * inv_cell + 64) - 63, -1, n); };
+    for (int k = 0; k < m; ++k) {
+      if (!ok_[k]) continue;
+      const float u1 = u1_[k], u2 = u2_[k], b1 = b1_[k], b2 = b2_[k];
+      const int cx[3] = {index(u1 - b1), index(u1), index(u1 + b1)};
+      const int cy[3] = {index(u2 - b2), index(u2), index(u2 + b2)};
+      bool edge = false;
+      if (cx[1] - cx[0] <= 1 && cx[2] - cx[1] <= 1 && cy[1] - cy[0] <= 1 && cy[2] - cy[1] <= 1) {
+        const unsigned bits = pat.neighbours[static_cast<std::size_t>((cy[1] + 1) * stride_n + cx[1] + 1)];
+        const unsigned cols = 2u | (cx[0] < cx[1] ? 1u : 0u) | (cx[2] > cx[1] ? 4u : 0u);
+        unsigned sel = cols << 3;
+        if (cy[0] < cy[1]) sel |= cols;
+        if (cy[2] > cy[1]) sel |= cols << 6;
+        edge = ((bits ^ ((bits >> 4) & 1u ? 0x1FFu : 0u)) & sel) != 0;
+      } else {
+        const bool v0 = pat.white(cy[1], cx[1]);
+        for (int j = 0; j < 3 && !edge; ++j)
+          for (int i = 0; i < 3 && !edge; ++i) edge = pat.white(cy[j], cx[i]) != v0;
+      }
+      if (edge) px.push_back({xn_[k], yn, img.at(rx[k], y)});
+    }
+  }
   if (static_cast<int>(px.size()) < opt.min_pixels) return std::nullopt;
   if (static_cast<int>(px.size()) > budget) {  // evenly spread subsample
     const double step = static_cast<double>(px.size()) / budget;
@@ -224,7 +219,13 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
     for (int k = 0; k < budget; ++k) keep.push_back(px[static_cast<std::size_t>(k * step)]);
     px.swap(keep);
   }
-  const Problem pb{pat, px, S};
+  detail::PhotometricSamples samples;
+  samples.xn.reserve(px.size()), samples.yn.reserve(px.size()), samples.value.reserve(px.size());
+  for (const Pixel& q : px) {
+    samples.xn.push_back(q.xn);
+    samples.yn.push_back(q.yn);
+    samples.value.push_back(q.value);
+  }
 
   // Start: black and white levels from the pixels' 10th and 90th percentiles, no shading.
   std::vector<float> v;
@@ -236,36 +237,36 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   std::nth_element(v.begin(), hi, v.end());
   const double white = *hi;
   if (!(white - black >= opt.min_contrast)) return std::nullopt;
-  Vec p;
+  PhotometricVec p;
   p << G(0, 0), G(0, 1), G(0, 2), G(1, 0), G(1, 1), G(1, 2), G(2, 0), G(2, 1), black, 0, 0, white - black, 0, 0,
       opt.initial_blur_px;
   // Huber threshold: a fraction of the contrast (so noise-free model mismatch at the edges counts in
   // full and an occluder's or glare's pixels with a bounded weight).
   const double huber = opt.huber * (white - black);
-  Mat JtJ;
-  Vec Jtr;
-  Eigen::Matrix<double, kParams, Eigen::Dynamic> rows(kParams, static_cast<Eigen::Index>(px.size()));
+  PhotometricMat JtJ;
+  PhotometricVec Jtr;
+  detail::PhotometricScratch scratch;
   // Gauss-Newton steps, one pass over the pixels each: a step whose pass shows a higher cost than the
   // previous one is taken back and the fit stops there. The last step is taken on trust (no pass of
   // its own: the start is within a few hundredths of a pixel, where the model is nearly linear in the
   // geometry), bounded by max_corner_shift_px and the contrast check below.
-  double cost = accumulate(pb, p, huber, rows, JtJ, Jtr);
+  double cost = detail::photometric_normal_equations(pat, samples, S, p, huber, JtJ, Jtr, scratch);
   for (int it = 0; it < opt.iterations; ++it) {
-    Mat A = JtJ;
+    PhotometricMat A = JtJ;
     A.diagonal() += 1e-6 * JtJ.diagonal().cwiseMax(1e-12);  // a touch of damping against a flat direction
-    const Vec d = A.ldlt().solve(Jtr);
+    const PhotometricVec d = A.ldlt().solve(Jtr);
     if (!d.allFinite()) return std::nullopt;
-    Vec q = p + d;
-    q(kSigma) = std::clamp(q(kSigma), 0.1, 8.0);
+    PhotometricVec q = p + d;
+    q(kPhotometricSigma) = std::clamp(q(kPhotometricSigma), 0.1, 8.0);
     if (it + 1 == opt.iterations) {
       p = q;
       break;
     }
-    const double c = accumulate(pb, q, huber, rows, JtJ, Jtr);
+    const double c = detail::photometric_normal_equations(pat, samples, S, q, huber, JtJ, Jtr, scratch);
     if (!(c <= cost)) break;  // p stays
     p = q, cost = c;
   }
-  if (!(p(11) >= opt.min_contrast) || !(p(kSigma) <= opt.max_blur_cells * side / (cells.n - 2))) return std::nullopt;
+  if (!(p(11) >= opt.min_contrast) || !(p(kPhotometricSigma) <= opt.max_blur_cells * side / (cells.n - 2))) return std::nullopt;
 
   Eigen::Matrix3d Gr;
   Gr << p(0), p(1), p(2), p(3), p(4), p(5), p(6), p(7), 1;

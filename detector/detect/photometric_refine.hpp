@@ -40,7 +40,8 @@ struct PhotometricRefineOptions {
   double band_px = 1.5;              // pixels farther than this from every transition of the pattern are left out
   double initial_blur_px = 0.6;      // sigma's starting value, px
   int max_pixels = 2500;             // more usable pixels than the budget are subsampled evenly (the cost is
-                                     // about 1000 instructions a pixel and step; precision ~ 1/sqrt(pixels))
+                                     // about 250 instructions a pixel and pass, vectorised: photometric_model.hpp;
+                                     // precision ~ 1/sqrt(pixels))
   double pixels_per_side_px = 25;    // a larger tag's budget: this many pixels per pixel of its mean side, if above max_pixels
   int min_pixels = 40;               // fewer: no refinement
   double min_black_square_px = 6;    // smaller tags (mean side, px) are left alone

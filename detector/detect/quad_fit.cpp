@@ -117,12 +117,19 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
 
   // A centre slightly off the half-pixel lattice so no point sits exactly on it.
   const float cx = 0.25f * static_cast<float>(xmin + xmax) + 0.0256f, cy = 0.25f * static_cast<float>(ymin + ymax) - 0.0143f;
-  s.pts.resize(static_cast<std::size_t>(n));
+  // The polarity first (about half the groups of a natural image have the wrong one), then the
+  // points' weights, which read the image.
   double outward = 0;
   for (int i = 0; i < n; ++i) {
     const BoundaryPoint& p = group[static_cast<std::size_t>(i)];
     const float x = 0.5f * static_cast<float>(p.x2), y = 0.5f * static_cast<float>(p.y2);
     outward += (x - cx) * p.gx + (y - cy) * p.gy;
+  }
+  if (outward > 0 ? !opt.dark_inside : !opt.light_inside) return std::nullopt;
+  s.pts.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const BoundaryPoint& p = group[static_cast<std::size_t>(i)];
+    const float x = 0.5f * static_cast<float>(p.x2), y = 0.5f * static_cast<float>(p.y2);
     const int ix = (p.x2 + 1) >> 1, iy = (p.y2 + 1) >> 1;
     float wgt = 1;
     if (ix > 0 && iy > 0 && ix + 1 < img.width && iy + 1 < img.height) {
@@ -131,7 +138,6 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
     }
     s.pts[static_cast<std::size_t>(i)] = {pseudo_angle(x - cx, y - cy), x, y, wgt};
   }
-  if (outward > 0 ? !opt.dark_inside : !opt.light_inside) return std::nullopt;
   std::sort(s.pts.begin(), s.pts.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
 
   s.cum.resize(static_cast<std::size_t>(n));

@@ -46,8 +46,10 @@ Line fit(const Moments& m) {
 
 double distance(const Line& l, double x, double y) { return l.nx * (x - l.cx) + l.ny * (y - l.cy); }
 
-// Douglas-Peucker over the cyclic sequence: vertex indices, increasing.
-void split_runs(OccludedQuadFitScratch& s, double tol) {
+// Douglas-Peucker over the cyclic sequence: vertex indices, increasing. False, with the split
+// abandoned, once there are more than `max_vertices` (no vertex is ever removed again, so the caller
+// would reject the outline: textures split into hundreds of runs, and this is where their cost was).
+bool split_runs(OccludedQuadFitScratch& s, double tol, int max_vertices) {
   const int n = static_cast<int>(s.pts.size());
   const auto& p = s.pts;
   int a = 0;
@@ -89,10 +91,14 @@ void split_runs(OccludedQuadFitScratch& s, double tol) {
     }
     if (worst <= tol) continue;
     s.vertices.push_back(wi % n);
+    // Split points are interior to disjoint intervals, hence distinct; only the first two can
+    // coincide (a == b): one more than the limit is still possible after the unique below.
+    if (static_cast<int>(s.vertices.size()) > max_vertices + 1) return false;
     s.stack.insert(s.stack.end(), {st, wi, wi, e});
   }
   std::sort(s.vertices.begin(), s.vertices.end());
   s.vertices.erase(std::unique(s.vertices.begin(), s.vertices.end()), s.vertices.end());
+  return true;
 }
 
 }  // namespace
@@ -129,7 +135,7 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
   const int n = static_cast<int>(s.pts.size());
 
   // 1. Straight runs.
-  split_runs(s, opt.split_tolerance_px);
+  if (!split_runs(s, opt.split_tolerance_px, opt.max_runs)) return std::nullopt;
   const int nv = static_cast<int>(s.vertices.size());
   if (nv < 4 || nv > opt.max_runs) return std::nullopt;
 

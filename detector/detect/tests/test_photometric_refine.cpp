@@ -54,6 +54,24 @@ TEST(PhotometricRefine, SlantedShadedTag) {
   EXPECT_LT(corner_rms(*r, truth), 0.02);
 }
 
+// Large tags (cells of 16-25 px: the selection skips whole blocks of pixels inside the cells) at
+// several rotations (each row scanned over the tag's footprint only) and one in strong perspective:
+// the corners still come back to the truth, the selection having kept every pixel near a transition.
+TEST(PhotometricRefine, LargeRotatedTagsWithBlockSkipping) {
+  const TagFamily& f = builtin_family("36h11");
+  for (int k = 0; k < 4; ++k) {
+    const double side = 130 + 20 * k;
+    Corners truth = synth::square_tag_corners(160.3, 158.6, side, 0.15 + 0.35 * k);
+    if (k == 3) truth[1] += Eigen::Vector2d(-25, 12), truth[2] += Eigen::Vector2d(-25, -12);  // perspective
+    ImageF img = synth::render_tag(320, 320, tag_cells(f, 3 + k), synth::homography_for(truth), 0.5f);
+    img = gaussian_blur(img, 0.9);
+    const Corners start = perturbed(truth, 0.3, 40 + static_cast<std::uint32_t>(k));
+    const auto r = refine_corners_photometric(img, tag_cells(f, 3 + k), start, on());
+    ASSERT_TRUE(r.has_value()) << k;
+    EXPECT_LT(corner_rms(*r, truth), 0.02) << k << " start " << corner_rms(start, truth);
+  }
+}
+
 // A rendered tag at a known pose: the pose from the refined corners is within 0.1 degree of the truth
 // (8-bit quantisation and sensor-like noise included).
 TEST(PhotometricRefine, PoseFromRefinedCornersIsWithinATenthOfADegree) {
