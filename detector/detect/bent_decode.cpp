@@ -83,6 +83,11 @@ std::vector<Detection> decode_bent_quads(const ImageF& gray, const ImageF& decod
     if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
     BorderKinkOptions k = opt.kink;
     k.cells_across = max_d + 2;
+    BorderKinkOptions quick = k;
+    quick.samples = opt.precheck_samples;
+    quick.max_fold_offset = 0;
+    const auto first_look = measure_border_kinks(gray, quads[qi].corners, quick);
+    if (!first_look || !(max_kink_px(*first_look) >= opt.precheck_fraction * opt.min_kink_px)) continue;
     const auto sides = measure_border_kinks(gray, quads[qi].corners, k);
     if (!sides) continue;
     if (!std::all_of(sides->begin(), sides->end(), [](const SideKink& s) { return s.valid; })) continue;

@@ -34,6 +34,11 @@ struct BentReadOptions {
   bool enabled = true;        // default profile on; DetectorOptions::paper(): off
   double min_kink_px = 0.75;  // one side of the folded pair bent by at least this (|SideKink::kink_px|), px
   BorderKinkOptions kink;     // the measurement; cells_across is set per payload width
+  // A quick look first, for speed (most quads that reach here, on natural images, are not tags): the
+  // border measured at precheck_samples points per side with the fold at the middle; the full
+  // measurement only when a side's kink there is at least precheck_fraction x min_kink_px.
+  int precheck_samples = 4;
+  double precheck_fraction = 0.5;
 };
 
 // Every quad whose outcome is kNotDecoded re-read as a folded tag (above); the new detections, in

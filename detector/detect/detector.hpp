@@ -157,7 +157,8 @@ struct DetectorOptions {
   //                           min_contrast [0, 1];
   //   photometric_guard       max_kink_px, min_kink_significance, min_side_px, max_blur_px finite >= 0;
   //                           kink as for bent.kink;
-  //   bent                    min_kink_px finite >= 0; kink.samples 4..256, kink.end_margin [0, 0.5),
+  //   bent                    min_kink_px finite >= 0; precheck_samples 4..256; precheck_fraction [0, 1];
+  //                           kink.samples 4..256, kink.end_margin [0, 0.5),
   //                           kink.range_cells, kink.min_range_px, kink.step_px, kink.derivative_half_px
   //                           finite > 0, kink.max_fold_offset [0, 0.9], kink.cells_across >= 1;
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;

@@ -93,6 +93,8 @@ TEST(DetectorOptions, EveryFieldIsChecked) {
       {"photometric_guard.max_blur_px", [](DetectorOptions& o) { o.photometric_guard.max_blur_px = -0.5; }, "-0.5"},
       {"photometric_guard.kink.samples", [](DetectorOptions& o) { o.photometric_guard.kink.samples = 3; }, "3"},
       {"bent.min_kink_px", [](DetectorOptions& o) { o.bent.min_kink_px = kNaN; }, "nan"},
+      {"bent.precheck_samples", [](DetectorOptions& o) { o.bent.precheck_samples = 2; }, "2"},
+      {"bent.precheck_fraction", [](DetectorOptions& o) { o.bent.precheck_fraction = 1.5; }, "1.5"},
       {"bent.kink.samples", [](DetectorOptions& o) { o.bent.kink.samples = 1000; }, "1000"},
       {"bent.kink.end_margin", [](DetectorOptions& o) { o.bent.kink.end_margin = 0.5; }, "0.5"},
       {"bent.kink.range_cells", [](DetectorOptions& o) { o.bent.kink.range_cells = 0; }, "0"},
