@@ -22,7 +22,7 @@ struct PhotometricGuardOptions {
   // errors on the angle and distance sweeps, bent-10-degree tags 0.3-1.7 px; short sides read noise.
   double max_kink_px = 0.35;
   double min_kink_significance = 5;
-  double min_side_px = 24;
+  double min_side_px = 40;     // realistic set, 28-40 px tags: 24 cost 3 % of corner accuracy (JPEG and noise read as kinks)
   double max_blur_px = 1.5;    // an edge blur (median of the sides' SideKink::blur_px, px) above this likewise
   // The measurement; cells_across is set per family. The fold's crossing is taken at the side's middle
   // (max_fold_offset 0): searching for it fits noise on a straight side (a flat tag's kink read 0.21 px
