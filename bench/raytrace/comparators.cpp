@@ -91,6 +91,18 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "photo_band") o.photometric.band_px = x;
     else if (k == "photo_margin") o.photometric.margin_cells = x;
     else if (k == "photo_huber") o.photometric.huber = x;
+    else if (k == "pguard") o.photometric_guard.enabled = x != 0;
+    else if (k == "pguard_kink") o.photometric_guard.max_kink_px = x;
+    else if (k == "pguard_blur") o.photometric_guard.max_blur_px = x;
+    else if (k == "pguard_sig") o.photometric_guard.min_kink_significance = x;
+    else if (k == "pguard_side") o.photometric_guard.min_side_px = x;
+    else if (k == "pguard_fold") o.photometric_guard.kink.max_fold_offset = x;
+    else if (k == "pguard_range") o.photometric_guard.kink.range_cells = x;
+    else if (k == "pguard_samples") o.photometric_guard.kink.samples = static_cast<int>(x);
+    else if (k == "bent") o.bent.enabled = x != 0;
+    else if (k == "bent_kink") o.bent.min_kink_px = x;
+    else if (k == "bent_pre") o.bent.precheck_fraction = x;
+    else if (k == "bent_fold") o.bent.kink.max_fold_offset = x;
     else if (k == "occl") o.threshold_quads.fit.tolerate_occlusion = x != 0;
     else if (k == "refit") o.occlusion_refit = x != 0;
     else if (k == "agree") o.occlusion.agree_fraction = x;

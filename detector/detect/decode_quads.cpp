@@ -49,7 +49,7 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
       }
       const auto& reading = by_width[d];
       if (!reading) continue;
-      const int k = hamming_by_family ? std::min(max_hamming, std::max(0, (f.min_hamming() - 1) / 3)) : max_hamming;
+      const int k = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
       const auto dec = f.decode(reading->bits, k);
       // ">=": on equal Hamming distance the earlier family keeps the quad (the header's tie-break).
       if (!dec || (have && dec->hamming >= best.hamming)) continue;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "codes/families.hpp"
+#include "detect/bent_decode.hpp"
 #include "detect/decode_quads.hpp"
 #include "detect/estimate_poses.hpp"
 #include "detect/find_quads_in_image.hpp"
@@ -147,18 +148,26 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   auto t = Clock::now();
 
   // 6. Payloads, decoded against every family; one detection per tag; the margin filter.
-  std::vector<Detection> out = suppress_duplicates(decode_quads(*found.decode_image, found.quads, families_,
-                                                                opt_.max_hamming, opt_.payload,
-                                                                opt_.payload_reader == PayloadReaderKind::kArea
-                                                                    ? &opt_.payload_area
-                                                                    : nullptr,
-                                                                trace ? &trace->readings : nullptr,
-                                                                trace ? &trace->quad_outcomes : nullptr,
-                                                                opt_.hamming_by_family));
+  // The bent-tag second chance (bent_decode.hpp) needs every quad's outcome, traced or not.
+  std::vector<QuadOutcome> own_outcomes;
+  std::vector<QuadOutcome>* outcomes = trace ? &trace->quad_outcomes : opt_.bent.enabled ? &own_outcomes : nullptr;
+  const std::size_t first_outcome = outcomes ? outcomes->size() : 0;
+  std::vector<Detection> decoded = decode_quads(*found.decode_image, found.quads, families_, opt_.max_hamming,
+                                                opt_.payload,
+                                                opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area
+                                                                                                : nullptr,
+                                                trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family);
+  if (opt_.bent.enabled) {
+    auto bent = decode_bent_quads(gray, *found.decode_image, found.quads,
+                                  std::span(*outcomes).subspan(first_outcome), families_, opt_.max_hamming,
+                                  opt_.hamming_by_family, opt_.payload_area, opt_.payload.min_contrast, opt_.bent);
+    decoded.insert(decoded.end(), std::make_move_iterator(bent.begin()), std::make_move_iterator(bent.end()));
+  }
+  std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   drop_below_margin(out, opt_.min_decision_margin);
   if (opt_.occlusion_refit) refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);
   if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
-    refine_detections_photometric(out, gray, families_, opt_.photometric);
+    refine_detections_photometric_guarded(out, gray, families_, opt_.photometric, opt_.photometric_guard);
   tm.decode = ms_since(t);
 
   // 7. Poses.

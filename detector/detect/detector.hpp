@@ -30,6 +30,8 @@
 #include "occlusion_refit.hpp"
 #include "payload_area.hpp"
 #include "payload_decode.hpp"
+#include "bent_decode.hpp"
+#include "photometric_guard.hpp"
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
@@ -57,6 +59,13 @@ inline ThresholdQuadOptions default_profile_threshold_quads() {
   ThresholdQuadOptions q;
   q.fit.tolerate_occlusion = true;
   return q;
+}
+
+// The bits a family of minimum Hamming distance h corrects: min(max_hamming, (h - 1) / 3) when
+// hamming_by_family (DetectorOptions::hamming_by_family), else max_hamming.
+inline int bits_corrected_for(int min_hamming, int max_hamming, bool hamming_by_family) {
+  const int cap = min_hamming > 1 ? (min_hamming - 1) / 3 : 0;
+  return hamming_by_family ? (max_hamming < cap ? max_hamming : cap) : max_hamming;
 }
 
 // Two profiles. The default member values are the DEFAULT profile, what the library and `tagbench
@@ -113,6 +122,14 @@ struct DetectorOptions {
   // Beyond the paper: the decoded tags' corners refined against their known printed pattern on the
   // unblurred image (photometric_refine.hpp), before the poses. Default profile: on (paper(): off).
   PhotometricRefineOptions photometric;
+  // Beyond the paper: the photometric refinement skipped on a bent or heavily blurred tag, where its
+  // one-homography model fits worse than the edge-refined corners (photometric_guard.hpp). Default
+  // profile: on; it only acts where photometric.enabled.
+  PhotometricGuardOptions photometric_guard;
+  // Beyond the paper: a quad read but not decoded gets a second reading as a tag folded along a
+  // centre line when its border shows two opposite sides bent (bent_decode.hpp). Default profile:
+  // on (paper(): off).
+  BentReadOptions bent;
   // Pose: given intrinsics (pixels) and the tag size (metres, > 0).
   std::optional<CameraIntrinsics> camera;
   std::optional<std::array<double, 5>> distortion;  // OpenCV's k1, k2, p1, p2, k3; corners are undistorted first
@@ -157,6 +174,12 @@ struct DetectorOptions {
   //                           margin_cells [0, 1); band_px, initial_blur_px, max_corner_shift_px,
   //                           max_blur_cells finite > 0; min_black_square_px, huber, pixels_per_side_px finite >= 0;
   //                           min_contrast [0, 1];
+  //   photometric_guard       max_kink_px, min_kink_significance, min_side_px, max_blur_px finite >= 0;
+  //                           kink as for bent.kink;
+  //   bent                    min_kink_px finite >= 0; precheck_samples 4..256; precheck_fraction [0, 1];
+  //                           kink.samples 4..256, kink.end_margin [0, 0.5),
+  //                           kink.range_cells, kink.min_range_px, kink.step_px, kink.derivative_half_px
+  //                           finite > 0, kink.max_fold_offset [0, 0.9], kink.cells_across >= 1;
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
   //                           without; distortion only with a camera, finite;

@@ -115,6 +115,17 @@ void validate_photometric(const PhotometricRefineOptions& p) {
   within("photometric.min_contrast", p.min_contrast, 0, 1);
 }
 
+void validate_border_kink(const std::string& name, const BorderKinkOptions& k) {
+  int_within((name + ".samples").c_str(), k.samples, 4, 256);
+  if (!(k.end_margin >= 0 && k.end_margin < 0.5)) fail((name + ".end_margin").c_str(), k.end_margin, "must be in [0, 0.5)");
+  finite_above((name + ".range_cells").c_str(), k.range_cells, 0);
+  finite_above((name + ".min_range_px").c_str(), k.min_range_px, 0);
+  finite_above((name + ".step_px").c_str(), k.step_px, 0);
+  finite_above((name + ".derivative_half_px").c_str(), k.derivative_half_px, 0);
+  within((name + ".max_fold_offset").c_str(), k.max_fold_offset, 0, 0.9);
+  int_within((name + ".cells_across").c_str(), k.cells_across, 1, 1000);
+}
+
 }  // namespace
 
 DetectorOptions DetectorOptions::paper() {
@@ -125,11 +136,13 @@ DetectorOptions DetectorOptions::paper() {
   o.occlusion_refit = false;
   o.max_hamming = 1;
   o.hamming_by_family = false;
+  o.bent.enabled = false;
+  o.photometric_guard.enabled = false;
   return o;
 }
 
 int DetectorOptions::bits_corrected(int min_hamming) const {
-  return hamming_by_family ? std::min(max_hamming, std::max(0, (min_hamming - 1) / 3)) : max_hamming;
+  return bits_corrected_for(min_hamming, max_hamming, hamming_by_family);
 }
 
 void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
@@ -191,6 +204,15 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   validate_threshold_quads(threshold_quads);
   validate_photometric(photometric);
   validate_occlusion_refit(occlusion);
+  finite_at_least("photometric_guard.max_kink_px", photometric_guard.max_kink_px, 0);
+  finite_at_least("photometric_guard.max_blur_px", photometric_guard.max_blur_px, 0);
+  finite_at_least("photometric_guard.min_kink_significance", photometric_guard.min_kink_significance, 0);
+  finite_at_least("photometric_guard.min_side_px", photometric_guard.min_side_px, 0);
+  validate_border_kink("photometric_guard.kink", photometric_guard.kink);
+  finite_at_least("bent.min_kink_px", bent.min_kink_px, 0);
+  validate_border_kink("bent.kink", bent.kink);
+  int_within("bent.precheck_samples", bent.precheck_samples, 4, 256);
+  within("bent.precheck_fraction", bent.precheck_fraction, 0, 1);
   int_within("payload_area.samples_per_side", payload_area.samples_per_side, 1, 16);
   within("payload_area.sample_extent", payload_area.sample_extent, 0, 1);
   finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);

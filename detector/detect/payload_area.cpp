@@ -36,8 +36,12 @@ double model_at(const Eigen::Vector4d& m, double x, double y) { return m(0) * x 
 
 }  // namespace
 
-std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::Matrix3d& H, int d,
-                                                const PayloadAreaOptions& opt, bool keep_points) {
+namespace {
+
+// The reading through any map of tag coordinates to the image (a homography, or a folded tag's two).
+template <class Map>
+std::optional<PayloadReading> read_area(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt,
+                                        bool keep_points) {
   if (d < 1 || d > 8 || opt.samples_per_side < 1 || !(opt.sample_extent >= 0)) return std::nullopt;
   const int n = d + 4, k = opt.samples_per_side;
   const double cell = 2.0 / (d + 2);
@@ -53,7 +57,7 @@ std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::
         for (int i = 0; i < k && ok; ++i) {
           const double ox = ((i + 0.5) / k - 0.5) * opt.sample_extent * cell;
           const double oy = ((j + 0.5) / k - 0.5) * opt.sample_extent * cell;
-          const auto v = sample_bilinear(img, apply_homography(H, Eigen::Vector2d(centre(gx) + ox, centre(gy) + oy)));
+          const auto v = sample_bilinear(img, map(Eigen::Vector2d(centre(gx) + ox, centre(gy) + oy)));
           if (!v) ok = false;
           else sum += *v;
         }
@@ -67,7 +71,7 @@ std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::
       if (ring >= 2 || std::isnan(v)) continue;
       (ring == 0 ? white : black).emplace_back(centre(gx), centre(gy), v);
       if (keep_points)
-        (ring == 0 ? r.white_points : r.black_points).push_back(apply_homography(H, {centre(gx), centre(gy)}));
+        (ring == 0 ? r.white_points : r.black_points).push_back(map(Eigen::Vector2d(centre(gx), centre(gy))));
     }
   const auto wm = fit_bilinear_model(white), bm = fit_bilinear_model(black);
   if (!wm || !bm) return std::nullopt;
@@ -77,8 +81,8 @@ std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::
   double sharpening = opt.sharpening;
   if (opt.small_cell_px > 0) {
     double sides = 0;  // the black square's four sides, pixels
-    const Eigen::Vector2d c[4] = {apply_homography(H, {-1, -1}), apply_homography(H, {1, -1}),
-                                  apply_homography(H, {1, 1}), apply_homography(H, {-1, 1})};
+    const Eigen::Vector2d c[4] = {map(Eigen::Vector2d(-1, -1)), map(Eigen::Vector2d(1, -1)),
+                                  map(Eigen::Vector2d(1, 1)), map(Eigen::Vector2d(-1, 1))};
     for (int i = 0; i < 4; ++i) sides += (c[(i + 1) % 4] - c[i]).norm();
     if (sides / 4 / (d + 2) < opt.small_cell_px) sharpening = opt.small_cell_sharpening;
   }
@@ -105,11 +109,23 @@ std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::
       const double thr = 0.5 * (w + b), half = 0.5 * (w - b);
       margin = half > 0 ? std::min(margin, std::abs(v - thr) / half) : 0.0;
       bits = (bits << 1) | (v > thr ? 1u : 0u);
-      if (keep_points) r.payload_points.push_back(apply_homography(H, {tx, ty}));
+      if (keep_points) r.payload_points.push_back(map(Eigen::Vector2d(tx, ty)));
     }
   r.bits = bits;
   r.margin = std::clamp(margin, 0.0, 1.0);
   return r;
+}
+
+}  // namespace
+
+std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::Matrix3d& H, int d,
+                                                const PayloadAreaOptions& opt, bool keep_points) {
+  return read_area(img, [&](const Eigen::Vector2d& u) { return apply_homography(H, u); }, d, opt, keep_points);
+}
+
+std::optional<PayloadReading> read_payload_area(const ImageF& img, const TagToImage& map, int d,
+                                                const PayloadAreaOptions& opt, bool keep_points) {
+  return read_area(img, map, d, opt, keep_points);
 }
 
 }  // namespace tagbench

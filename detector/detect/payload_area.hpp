@@ -15,6 +15,7 @@
 //     undoes part of the blur that spreads a cell into its neighbours when cells are 1-2 px;
 //   - a payload cell is 1 when v' exceeds the mean of the two models there.
 // Margin and contrast are defined as in PayloadReading (payload_decode.hpp), on the sharpened values.
+#include <functional>
 #include <optional>
 
 #include <Eigen/Core>
@@ -43,6 +44,12 @@ struct PayloadAreaOptions {
 // sample leaves the image, the border gives no model, or the contrast is below min_contrast.
 // Bits in AprilTag 1 order as seen through the quad (as read_payload).
 std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::Matrix3d& H, int d,
+                                                const PayloadAreaOptions& opt = {}, bool keep_points = false);
+
+// The same through any map of tag coordinates ([-1,1]^2 the black square) to image pixels, e.g. a
+// folded tag's two homographies (bent_decode.hpp); with the homography's map, identical to the above.
+using TagToImage = std::function<Eigen::Vector2d(const Eigen::Vector2d&)>;
+std::optional<PayloadReading> read_payload_area(const ImageF& img, const TagToImage& map, int d,
                                                 const PayloadAreaOptions& opt = {}, bool keep_points = false);
 
 }  // namespace tagbench

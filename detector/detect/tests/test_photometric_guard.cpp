@@ -1,0 +1,59 @@
+#include <gtest/gtest.h>
+
+#include "codes/families.hpp"
+#include "codes/tag_layout.hpp"
+#include "detect/blur.hpp"
+#include "detect/detector.hpp"
+#include "detect/photometric_guard.hpp"
+#include "synthetic_folded.hpp"
+#include "synthetic_tag.hpp"
+
+using namespace tagbench;
+
+// Flat and lightly blurred: the photometric model fits. Folded, or blurred by 2 px: it does not.
+TEST(PhotometricGuard, PassesFlatTagsOnly) {
+  const TagFamily& f = builtin_family("36h11");
+  const PhotometricGuardOptions g;
+  const Corners c = synth::square_tag_corners(60.3, 59.1, 64, 0.25);
+  const ImageF flat = synth::render_tag(120, 120, tag_cells(f, 2), synth::homography_for(c));
+  EXPECT_TRUE(photometric_model_fits(gaussian_blur(flat, 0.6), c, 8, g));
+  EXPECT_FALSE(photometric_model_fits(gaussian_blur(flat, 2.0), c, 8, g));
+  const synth::FoldedTag t = synth::folded_square(60.4, 60.2, 64, 1.0, 1.0);
+  const ImageF bent = gaussian_blur(synth::render_folded(120, 120, tag_cells(f, 2), t), 0.6);
+  EXPECT_FALSE(photometric_model_fits(bent, t.corners, 8, g));
+  // Short sides are not judged: the same tag shrunk below min_side_px passes on its kink.
+  PhotometricGuardOptions small = g;
+  small.min_side_px = 100;
+  EXPECT_TRUE(photometric_model_fits(bent, t.corners, 8, small));
+}
+
+// The guarded refinement leaves a folded tag's corners as they were, refines a flat one's, and with
+// the guard off is refine_detections_photometric.
+TEST(PhotometricGuard, GuardedRefinementSkipsOnlyWhatTheGuardRefuses) {
+  const TagFamily& f = builtin_family("36h11");
+  const std::vector<TagFamily> fams{f};
+  const Corners truth = synth::square_tag_corners(60.3, 59.1, 64, 0.25);
+  const ImageF flat = gaussian_blur(synth::render_tag(120, 120, tag_cells(f, 2), synth::homography_for(truth)), 0.6);
+  Detection d;
+  d.family = "36h11";
+  d.id = 2;
+  d.corners = synth::perturbed(truth, 0.2, 7);
+  std::vector<Detection> guarded{d}, plain{d};
+  refine_detections_photometric_guarded(guarded, flat, fams, PhotometricRefineOptions{}, PhotometricGuardOptions{});
+  refine_detections_photometric(plain, flat, fams, PhotometricRefineOptions{});
+  EXPECT_LT(synth::corner_rms(guarded[0].corners, truth), 0.03);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(guarded[0].corners[i], plain[0].corners[i]);
+
+  const synth::FoldedTag t = synth::folded_square(60.4, 60.2, 64, 1.0, 1.0);
+  const ImageF bent = gaussian_blur(synth::render_folded(120, 120, tag_cells(f, 2), t), 0.6);
+  d.corners = t.corners;
+  std::vector<Detection> b{d}, off{d};
+  refine_detections_photometric_guarded(b, bent, fams, PhotometricRefineOptions{}, PhotometricGuardOptions{});
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(b[0].corners[i], t.corners[i]);
+  PhotometricGuardOptions disabled;
+  disabled.enabled = false;
+  std::vector<Detection> ref{d};
+  refine_detections_photometric_guarded(off, bent, fams, PhotometricRefineOptions{}, disabled);
+  refine_detections_photometric(ref, bent, fams, PhotometricRefineOptions{});
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(off[0].corners[i], ref[0].corners[i]);
+}
