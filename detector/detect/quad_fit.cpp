@@ -237,11 +237,17 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
         if ((c = fit_quad(s.side, img, opt, s))) break;
       }
     }
-    // The outer outline: the quad when the fits above failed, a second candidate beside theirs when
-    // it left out at least outer.min_dropped of the points (the first fit then saw inner edges too
-    // and may have bent a side toward them; the decoder keeps whichever reads).
+    const bool own_fit = c.has_value();
+    if (!c && opt.tolerate_occlusion && opt.dark_inside)
+      c = fit_quad_occluded(group, img, opt.min_angle_deg, 0.95 * opt.min_tag_width * opt.min_tag_width,
+                            opt.occluded, s.occluded);
+    // The outer outline: the quad when every fit above failed; a second candidate beside the group's
+    // own fit when it left out at least outer.min_dropped of the points (that fit then saw inner edges
+    // too and may have bent a side toward them; the decoder keeps whichever reads). Never beside the
+    // occluded fit: an occluder's outline is outermost there, and the fit has already left it out.
     std::optional<Corners> second;
-    if (opt.refit_outer_outline && opt.dark_inside && static_cast<int>(group.size()) > std::max(opt.min_points, 4)) {
+    if ((own_fit || !c) && opt.refit_outer_outline && opt.dark_inside &&
+        static_cast<int>(group.size()) > std::max(opt.min_points, 4)) {
       outer_outline_points(group, opt.outer, s.outer, s.side);
       const double dropped = 1.0 - static_cast<double>(s.side.size()) / static_cast<double>(group.size());
       if (c ? dropped >= opt.outer.min_dropped : s.side.size() < group.size()) {
@@ -250,9 +256,6 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
         else if (o && max_corner_distance(*o, *c) > opt.outer.min_corner_change_px) second = o;
       }
     }
-    if (!c && opt.tolerate_occlusion && opt.dark_inside)
-      c = fit_quad_occluded(group, img, opt.min_angle_deg, 0.95 * opt.min_tag_width * opt.min_tag_width,
-                            opt.occluded, s.occluded);
     for (const auto& corners : {c, second}) {
       if (!corners) continue;
       Quad q;
