@@ -24,14 +24,13 @@ struct ThresholdOptions {
   // The default profile's values, chosen by measurement (issue 17; README "Where the tags were lost"):
   // 2 px tiles keep the black border of a 12-24 px tag apart from its white ring (AprilTag 2/3 use 4,
   // which merges them: on 60 realistic frames 38 % vs 71 % of the 20-24 px tags), and a contrast floor
-  // of 10/255 (libapriltag: 5/255) leaves flat texture unknown, which also makes the stage faster on
-  // textured photographs than libapriltag's. The floor was 20/255 until session 6: shaded and grey
-  // tags whose border and ring differ by 10-20 levels after the camera were unknown (realistic set,
-  // 200 frames, with the outer outline: 20-24 px 132 -> 141 of 188, 28-32 px 155 -> 168 of 184); under
-  // 10/255 nothing more is found (5/255 and 7/255 detect the same tags). The ray-traced distance,
-  // blur and noise sweeps are unchanged by both.
+  // of 20/255 (libapriltag: 5/255) leaves flat texture unknown, which also makes the stage faster on
+  // textured photographs (0.63 vs 0.77 of libapriltag d1's time on corpus images). The ray-traced
+  // distance, blur and noise sweeps are unchanged by both. Session 6 measured 10/255: realistic set
+  // (200 frames) 20-24 px tags 121 -> 129 of 188, all sizes 857 -> 907 of 1384 (below 10/255 nothing
+  // more), but time / libapriltag d1 0.55 -> 0.95 on the realistic set and 0.61 -> 0.80 on the corpus.
   int tile_size = 2;                    // px, >= 1
-  float min_contrast = 10.0f / 255.0f;  // max - min below this is flat: unknown
+  float min_contrast = 20.0f / 255.0f;  // max - min below this is flat: unknown
 };
 
 // The classed image: one byte a pixel, values kTernaryDark, kTernaryLight or kTernaryUnknown.
