@@ -106,6 +106,10 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "occl") o.threshold_quads.fit.tolerate_occlusion = x != 0;
     else if (k == "refit") o.occlusion_refit = x != 0;
     else if (k == "agree") o.occlusion.agree_fraction = x;
+    else if (k == "outer") o.threshold_quads.fit.refit_outer_outline = x != 0;
+    else if (k == "outer_bins") o.threshold_quads.fit.outer.bins = static_cast<int>(x);
+    else if (k == "outer_tol") o.threshold_quads.fit.outer.tolerance = x;
+    else if (k == "outer_drop") o.threshold_quads.fit.outer.min_dropped = x;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

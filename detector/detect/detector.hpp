@@ -54,7 +54,10 @@ enum class PayloadReaderKind {
            // payload_area.hpp); min_contrast is PayloadOptions::min_contrast
 };
 
-// The threshold quad finder's options in the default profile: occluded tags are fitted too.
+// The threshold quad finder's options in the default profile: occluded tags are fitted too. Not (yet)
+// the outer outline (fit.refit_outer_outline, outer_outline.hpp): on the realistic set (200 frames)
+// it finds 20-24 px tags 121 -> 132 of 188 and all sizes 857 -> 897 of 1384, but as written it
+// refits every failed group of a textured photograph: +38 % time on corpus images.
 inline ThresholdQuadOptions default_profile_threshold_quads() {
   ThresholdQuadOptions q;
   q.fit.tolerate_occlusion = true;

@@ -85,6 +85,11 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   int_within("threshold_quads.refine.iterations", r.iterations, 1, 100);
   int_within("threshold_quads.refine.cells_across", r.cells_across, 1, 64);
   validate_occluded_fit(q.fit.occluded);
+  int_within("threshold_quads.fit.outer.bins", q.fit.outer.bins, 8, 1024);
+  if (!(q.fit.outer.tolerance > 0 && q.fit.outer.tolerance < 1))
+    fail("threshold_quads.fit.outer.tolerance", q.fit.outer.tolerance, "must be in (0, 1)");
+  within("threshold_quads.fit.outer.min_dropped", q.fit.outer.min_dropped, 0, 1);
+  finite_at_least("threshold_quads.fit.outer.min_corner_change_px", q.fit.outer.min_corner_change_px, 0);
 }
 
 void validate_occlusion_refit(const OcclusionRefitOptions& o) {

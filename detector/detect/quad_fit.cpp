@@ -99,6 +99,13 @@ void corner_candidates(QuadFitScratch& s, int max_maxima) {
   }
 }
 
+// The largest distance between corresponding corners of two quads, px.
+double max_corner_distance(const Corners& a, const Corners& b) {
+  double d = 0;
+  for (std::size_t i = 0; i < 4; ++i) d = std::max(d, (a[i] - b[i]).norm());
+  return d;
+}
+
 }  // namespace
 
 std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const ImageF& img, const QuadFitOptions& opt,
@@ -236,15 +243,33 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
         if ((c = fit_quad(s.side, img, opt, s))) break;
       }
     }
+    const bool own_fit = c.has_value();
     if (!c && opt.tolerate_occlusion && opt.dark_inside)
       c = fit_quad_occluded(group, img, opt.min_angle_deg, 0.95 * opt.min_tag_width * opt.min_tag_width,
                             opt.occluded, s.occluded);
-    if (!c) continue;
-    Quad q;
-    q.corners = *c;
-    q.segments = {-1, -1, -1, -1};
-    for (std::size_t i = 0; i < 4; ++i) q.observed_perimeter += ((*c)[(i + 1) & 3] - (*c)[i]).norm();
-    out.push_back(q);
+    // The outer outline: the quad when every fit above failed; a second candidate beside the group's
+    // own fit when it left out at least outer.min_dropped of the points (that fit then saw inner edges
+    // too and may have bent a side toward them; the decoder keeps whichever reads). Never beside the
+    // occluded fit: an occluder's outline is outermost there, and the fit has already left it out.
+    std::optional<Corners> second;
+    if ((own_fit || !c) && opt.refit_outer_outline && opt.dark_inside &&
+        static_cast<int>(group.size()) > std::max(opt.min_points, 4)) {
+      outer_outline_points(group, opt.outer, s.outer, s.side);
+      const double dropped = 1.0 - static_cast<double>(s.side.size()) / static_cast<double>(group.size());
+      if (c ? dropped >= opt.outer.min_dropped : s.side.size() < group.size()) {
+        const auto o = fit_quad(s.side, img, opt, s);
+        if (!c) c = o;
+        else if (o && max_corner_distance(*o, *c) > opt.outer.min_corner_change_px) second = o;
+      }
+    }
+    for (const auto& corners : {c, second}) {
+      if (!corners) continue;
+      Quad q;
+      q.corners = *corners;
+      q.segments = {-1, -1, -1, -1};
+      for (std::size_t i = 0; i < 4; ++i) q.observed_perimeter += ((*corners)[(i + 1) & 3] - (*corners)[i]).norm();
+      out.push_back(q);
+    }
   }
 }
 

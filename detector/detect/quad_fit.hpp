@@ -29,6 +29,7 @@
 
 #include "boundaries.hpp"
 #include "image.hpp"
+#include "outer_outline.hpp"
 #include "quad_fit_occluded.hpp"
 #include "quad_search.hpp"
 
@@ -43,6 +44,13 @@ struct QuadFitOptions {
   bool dark_inside = true;         // accept dark squares on a light ground (every tagbench family)
   bool light_inside = false;       // accept light squares on a dark ground (reversed-border families)
   bool refit_one_side = false;     // a failed group is fitted again on its outward points (see above)
+  // Beyond AprilTag 3: when every fit above and the occluded fit below fail on a dark-inside group,
+  // fit again on its outer outline (outer_outline.hpp: the outward points outermost from the centre),
+  // which drops the payload's inner edges a leaking white ring adds to the group; and when the
+  // group's own fit succeeded but the outline leaves out outer.min_dropped of its points, add the
+  // outline's quad as a second candidate. Off here; the default profile turns it on (DetectorOptions).
+  bool refit_outer_outline = false;
+  OuterOutlineOptions outer;
   // Beyond AprilTag 2: when the quad fit above fails on a dark-inside group, try fit_quad_occluded
   // (quad_fit_occluded.hpp: the square's four lines fitted robustly, an occluder's outline left out).
   // Off here (AprilTag 3 has no such step); the default profile turns it on (DetectorOptions).
@@ -62,6 +70,7 @@ struct QuadFitScratch {
   std::vector<double> err, smooth;
   std::vector<int> maxima;
   std::vector<BoundaryPoint> side;  // refit_one_side: the group's points on one side
+  OuterOutlineScratch outer;        // refit_outer_outline
   OccludedQuadFitScratch occluded;
 };
 

@@ -1,0 +1,125 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "detect/outer_outline.hpp"
+#include "detect/quad_fit.hpp"
+
+using namespace tagbench;
+
+namespace {
+// A square outline in doubled coordinates: centre c2, half side half2; sign +1 steps toward the light
+// side point outward (a dark square on light ground), -1 inward.
+void outline(std::vector<BoundaryPoint>& pts, int c2, int half2, int sign) {
+  for (int t = -half2; t < half2; ++t) {
+    pts.push_back({c2 + t, c2 - half2, 0, static_cast<std::int8_t>(-sign)});  // top
+    pts.push_back({c2 + half2, c2 + t, static_cast<std::int8_t>(sign), 0});   // right
+    pts.push_back({c2 - t, c2 + half2, 0, static_cast<std::int8_t>(sign)});   // bottom
+    pts.push_back({c2 - half2, c2 - t, static_cast<std::int8_t>(-sign), 0});  // left
+  }
+}
+int chebyshev(const BoundaryPoint& p, int c2) { return std::max(std::abs(p.x2 - c2), std::abs(p.y2 - c2)); }
+}  // namespace
+
+// A square's edge (20 px, outward steps), the payload's inner edges at 3/4 of the way out (outward
+// steps too, as where a leaking white ring meets the border's inside) and a ring's outer edge (inward
+// steps): only the square's edge is kept, most of it.
+TEST(OuterOutline, KeepsTheSquaresEdgeAndDropsInnerEdgesAndTheRingsOuterEdge) {
+  std::vector<BoundaryPoint> group;
+  outline(group, 80, 20, 1);
+  outline(group, 80, 15, 1);
+  outline(group, 80, 26, -1);
+  OuterOutlineScratch s;
+  std::vector<BoundaryPoint> out;
+  outer_outline_points(group, {}, s, out);
+  ASSERT_FALSE(out.empty());
+  for (const auto& p : out) EXPECT_EQ(chebyshev(p, 80), 20);
+  EXPECT_GE(out.size(), 140u);  // of 160: a few next to the corners fall under the widened envelope
+  EXPECT_LE(out.size(), 160u);
+}
+
+// Nothing outward: nothing kept (a light square on dark ground is not this stage's business).
+TEST(OuterOutline, KeepsNothingWithoutOutwardPoints) {
+  std::vector<BoundaryPoint> group;
+  outline(group, 80, 20, -1);
+  OuterOutlineScratch s;
+  std::vector<BoundaryPoint> out = {BoundaryPoint{}};
+  outer_outline_points(group, {}, s, out);
+  EXPECT_TRUE(out.empty());
+}
+
+// In fit_quads: the mixed group's own fit is the mean of its two nested outlines (each side's line
+// passes between them within max_line_fit_mse: the bent quad of a tag whose white ring leaks into its
+// payload); refit_outer_outline adds the square itself as a second candidate.
+TEST(OuterOutline, FitQuadsAddsTheSquareOfAGroupWithInnerEdges) {
+  BoundaryGroups groups;
+  outline(groups.points, 80, 20, 1);
+  outline(groups.points, 80, 12, 1);
+  groups.offsets = {0, static_cast<std::uint32_t>(groups.points.size())};
+  const ImageF img(80, 80, 0.5f);
+  const Corners truth = {Eigen::Vector2d(30, 30), Eigen::Vector2d(50, 30), Eigen::Vector2d(50, 50),
+                         Eigen::Vector2d(30, 50)};
+  auto error = [&](const Corners& q) {
+    double e = 0;
+    for (std::size_t i = 0; i < 4; ++i) {
+      double best = 1e9;
+      for (const auto& c : q) best = std::min(best, (c - truth[i]).norm());
+      e = std::max(e, best);
+    }
+    return e;
+  };
+  QuadFitScratch s;
+  QuadFitOptions opt;
+  std::vector<Quad> quads;
+  fit_quads(groups, img, opt, s, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  EXPECT_GT(error(quads[0].corners), 1.5);
+  quads.clear();
+  opt.refit_outer_outline = true;
+  fit_quads(groups, img, opt, s, quads);
+  ASSERT_EQ(quads.size(), 2u);
+  EXPECT_GT(error(quads[0].corners), 1.5);
+  EXPECT_LT(error(quads[1].corners), 0.6);
+}
+
+// Inner edges far inside (a payload cell's outline, off the centre): the group's own fit fails (no
+// line fits a run that holds both), and the outline is then the quad.
+TEST(OuterOutline, FitQuadsFallsBackOnTheOutlineWhenTheGroupFitsNoQuad) {
+  BoundaryGroups groups;
+  outline(groups.points, 80, 20, 1);
+  std::vector<BoundaryPoint> cell;
+  outline(cell, 0, 10, 1);
+  for (auto p : cell) groups.points.push_back({p.x2 + 74, p.y2 + 74, p.gx, p.gy});
+  groups.offsets = {0, static_cast<std::uint32_t>(groups.points.size())};
+  const ImageF img(80, 80, 0.5f);
+  QuadFitScratch s;
+  QuadFitOptions opt;
+  std::vector<Quad> quads;
+  fit_quads(groups, img, opt, s, quads);
+  EXPECT_TRUE(quads.empty());
+  opt.refit_outer_outline = true;
+  fit_quads(groups, img, opt, s, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  const Corners truth = {Eigen::Vector2d(30, 30), Eigen::Vector2d(50, 30), Eigen::Vector2d(50, 50),
+                         Eigen::Vector2d(30, 50)};
+  for (std::size_t i = 0; i < 4; ++i) {
+    double best = 1e9;
+    for (const auto& c : quads[0].corners) best = std::min(best, (c - truth[i]).norm());
+    EXPECT_LT(best, 0.6) << "corner " << i;
+  }
+}
+
+// A clean square's group: one quad, no second candidate (the outline drops nothing that matters).
+TEST(OuterOutline, ACleanSquareGivesOneQuad) {
+  BoundaryGroups groups;
+  outline(groups.points, 80, 20, 1);
+  groups.offsets = {0, static_cast<std::uint32_t>(groups.points.size())};
+  const ImageF img(80, 80, 0.5f);
+  QuadFitScratch s;
+  QuadFitOptions opt;
+  opt.refit_outer_outline = true;
+  opt.outer.min_dropped = 0;  // even when the outline is always refitted
+  std::vector<Quad> quads;
+  fit_quads(groups, img, opt, s, quads);
+  EXPECT_EQ(quads.size(), 1u);
+}
