@@ -102,6 +102,7 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "bent") o.bent.enabled = x != 0;
     else if (k == "bent_kink") o.bent.min_kink_px = x;
     else if (k == "bent_pre") o.bent.precheck_fraction = x;
+    else if (k == "bent_side") o.bent.min_side_px = x;
     else if (k == "bent_fold") o.bent.kink.max_fold_offset = x;
     else if (k == "occl") o.threshold_quads.fit.tolerate_occlusion = x != 0;
     else if (k == "refit") o.occlusion_refit = x != 0;

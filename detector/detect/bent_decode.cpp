@@ -81,6 +81,10 @@ std::vector<Detection> decode_bent_quads(const ImageF& gray, const ImageF& decod
   for (std::size_t qi = 0; qi < quads.size(); ++qi) {
     QuadOutcome& outcome = outcomes[qi];
     if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
+    const auto& qc = quads[qi].corners;
+    double shortest = INFINITY;
+    for (std::size_t i = 0; i < 4; ++i) shortest = std::min(shortest, (qc[(i + 1) % 4] - qc[i]).norm());
+    if (!(shortest >= opt.min_side_px)) continue;
     BorderKinkOptions k = opt.kink;
     k.cells_across = max_d + 2;
     BorderKinkOptions quick = k;

@@ -218,6 +218,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   validate_border_kink("bent.kink", bent.kink);
   int_within("bent.precheck_samples", bent.precheck_samples, 4, 256);
   within("bent.precheck_fraction", bent.precheck_fraction, 0, 1);
+  finite_at_least("bent.min_side_px", bent.min_side_px, 0);
   int_within("payload_area.samples_per_side", payload_area.samples_per_side, 1, 16);
   within("payload_area.sample_extent", payload_area.sample_extent, 0, 1);
   finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);

@@ -80,6 +80,11 @@ TEST(BentDecode, FoldedTagMisreadFlatIsDecoded) {
   off.enabled = false;
   outcomes[0].fate = QuadOutcome::Fate::kNotDecoded;
   EXPECT_TRUE(decode_bent_quads(img, img, fitted_quads(), outcomes, fams, 1, false, PayloadAreaOptions{}, 0.02, off).empty());
+  // A quad whose shortest side is under min_side_px is not re-read.
+  BentReadOptions small_only;
+  small_only.min_side_px = 1000;
+  EXPECT_TRUE(
+      decode_bent_quads(img, img, fitted_quads(), outcomes, fams, 1, false, PayloadAreaOptions{}, 0.02, small_only).empty());
 }
 
 // Only kNotDecoded quads with a bent side are re-read: a flat tag's quad marked kNotDecoded stays

@@ -95,6 +95,7 @@ TEST(DetectorOptions, EveryFieldIsChecked) {
       {"bent.min_kink_px", [](DetectorOptions& o) { o.bent.min_kink_px = kNaN; }, "nan"},
       {"bent.precheck_samples", [](DetectorOptions& o) { o.bent.precheck_samples = 2; }, "2"},
       {"bent.precheck_fraction", [](DetectorOptions& o) { o.bent.precheck_fraction = 1.5; }, "1.5"},
+      {"bent.min_side_px", [](DetectorOptions& o) { o.bent.min_side_px = -1; }, "-1"},
       {"bent.kink.samples", [](DetectorOptions& o) { o.bent.kink.samples = 1000; }, "1000"},
       {"bent.kink.end_margin", [](DetectorOptions& o) { o.bent.kink.end_margin = 0.5; }, "0.5"},
       {"bent.kink.range_cells", [](DetectorOptions& o) { o.bent.kink.range_cells = 0; }, "0"},
