@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "detect/detector.hpp"
+#include "detect/decode_quads.hpp"
 #include "detect/homography.hpp"
 
 namespace tagbench {
@@ -108,25 +109,13 @@ std::vector<Detection> decode_bent_quads(const ImageF& gray, const ImageF& decod
       };
       std::array<std::optional<PayloadReading>, kMaxPayloadWidth + 1> by_width;
       std::array<bool, kMaxPayloadWidth + 1> read{};
-      Detection best;
-      bool have = false;
       for (const TagFamily& f : families) {
         const auto d = static_cast<std::size_t>(f.payload_width());
-        if (!read[d]) {
-          by_width[d] = read_payload_area(decode_image, map, static_cast<int>(d), area_opt);
-          read[d] = true;
-        }
-        if (!by_width[d]) continue;
-        const auto dec = f.decode(by_width[d]->bits, bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family));
-        if (!dec || (have && dec->hamming >= best.hamming)) continue;  // decode_quads' tie-break
-        have = true;
-        best.family = f.name();
-        best.id = dec->id;
-        best.hamming = dec->hamming;
-        best.rotation = dec->rotation;
-        best.decision_margin = by_width[d]->margin;
+        if (!read[d]) by_width[d] = read_payload_area(decode_image, map, static_cast<int>(d), area_opt);
+        read[d] = true;
       }
-      if (!have) continue;
+      Detection best;
+      if (!decode_readings(families, by_width, max_hamming, hamming_by_family, best)) continue;
       const auto H = [&] {
         Corners c;
         for (int i = 0; i < 4; ++i)

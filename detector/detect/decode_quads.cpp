@@ -9,6 +9,25 @@
 
 namespace tagbench {
 
+bool decode_readings(std::span<const TagFamily> families, std::span<const std::optional<PayloadReading>> by_width,
+                     int max_hamming, bool hamming_by_family, Detection& best) {
+  bool have = false;
+  for (const TagFamily& f : families) {
+    const auto& reading = by_width[static_cast<std::size_t>(f.payload_width())];
+    if (!reading) continue;
+    const auto dec = f.decode(reading->bits, bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family));
+    // ">=": on equal Hamming distance the earlier family keeps the quad (the header's tie-break).
+    if (!dec || (have && dec->hamming >= best.hamming)) continue;
+    have = true;
+    best.family = f.name();
+    best.id = dec->id;
+    best.hamming = dec->hamming;
+    best.rotation = dec->rotation;
+    best.decision_margin = reading->margin;
+  }
+  return have;
+}
+
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
                                     const PayloadOptions& payload, const PayloadAreaOptions* area,
@@ -34,32 +53,19 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
     outcome.fate = QuadOutcome::Fate::kUnreadable;
     std::array<std::optional<PayloadReading>, kMaxPayloadWidth + 1> by_width;  // one reading per payload width d
     std::array<bool, kMaxPayloadWidth + 1> read{};
-    Detection best;
-    bool have = false;
     for (const TagFamily& f : families) {
       const auto d = static_cast<std::size_t>(f.payload_width());
-      if (!read[d]) {
-        by_width[d] = area_opt ? read_payload_area(decode_image, *H, static_cast<int>(d), *area_opt, readings != nullptr)
-                               : read_payload(decode_image, *H, static_cast<int>(d), payload, readings != nullptr);
-        read[d] = true;
-        if (by_width[d]) {
-          outcome.bits[d] = by_width[d]->bits;
-          outcome.fate = QuadOutcome::Fate::kNotDecoded;
-        }
+      if (read[d]) continue;
+      by_width[d] = area_opt ? read_payload_area(decode_image, *H, static_cast<int>(d), *area_opt, readings != nullptr)
+                             : read_payload(decode_image, *H, static_cast<int>(d), payload, readings != nullptr);
+      read[d] = true;
+      if (by_width[d]) {
+        outcome.bits[d] = by_width[d]->bits;
+        outcome.fate = QuadOutcome::Fate::kNotDecoded;
       }
-      const auto& reading = by_width[d];
-      if (!reading) continue;
-      const int k = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
-      const auto dec = f.decode(reading->bits, k);
-      // ">=": on equal Hamming distance the earlier family keeps the quad (the header's tie-break).
-      if (!dec || (have && dec->hamming >= best.hamming)) continue;
-      have = true;
-      best.family = f.name();
-      best.id = dec->id;
-      best.hamming = dec->hamming;
-      best.rotation = dec->rotation;
-      best.decision_margin = reading->margin;
     }
+    Detection best;
+    const bool have = decode_readings(families, by_width, max_hamming, hamming_by_family, best);
     if (readings)
       for (auto& r : by_width)
         if (r) readings->push_back(std::move(*r));

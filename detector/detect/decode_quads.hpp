@@ -13,6 +13,7 @@
 // A detection's corners are the quad's corners re-ordered so that corners[0] is the printed
 // top-left (quad corner `rotation`), its homography maps the tag square [-1,1]^2 in printed axes
 // to the image, and its centre is the homography's image of (0, 0). Detections come in quad order.
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -31,6 +32,13 @@ namespace tagbench {
 // their sample points (for the paper's Fig. 4 pictures). `outcomes`, if given, receives one entry per
 // quad, in order: what became of it (for explain_loss.hpp). `hamming_by_family`: each family corrects
 // at most min(max_hamming, (h - 1) / 3) bits (DetectorOptions::hamming_by_family), else max_hamming.
+// The best decode of one quad's readings (by_width[d]: the reading of payload width d, if any) over
+// `families`, each correcting bits_corrected_for(...) bits: the lowest Hamming distance wins, the
+// earlier family on ties. Fills best's family, id, hamming, rotation and decision_margin; false if no
+// family decodes. Shared by decode_quads and the bent-tag second chance (bent_decode.hpp).
+bool decode_readings(std::span<const TagFamily> families, std::span<const std::optional<PayloadReading>> by_width,
+                     int max_hamming, bool hamming_by_family, Detection& best);
+
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
                                     const PayloadOptions& payload, const PayloadAreaOptions* area = nullptr,
