@@ -8,6 +8,7 @@
 #include "codes/tag_layout.hpp"
 #include "detect/homography.hpp"
 #include "detect/image.hpp"
+#include "synthetic_tag.hpp"
 
 namespace tagbench::synth {
 
@@ -38,31 +39,15 @@ inline FoldedTag folded_square(double cx, double cy, double side, double top, do
   return t;
 }
 
+// The folded tag over a background: each image point is taken back through the half it falls in.
 inline ImageF render_folded(int w, int h, const TagCells& cells, const FoldedTag& t, float background = 0.5f,
                             int ss = 6) {
   const Eigen::Matrix3d Li = t.left().inverse(), Ri = t.right().inverse();
-  const double cell = 2.0 / (cells.n - 2);
-  ImageF img(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      double acc = 0;
-      for (int j = 0; j < ss; ++j)
-        for (int i = 0; i < ss; ++i) {
-          const Eigen::Vector3d p(x - 0.5 + (i + 0.5) / ss, y - 0.5 + (j + 0.5) / ss, 1.0);
-          Eigen::Vector3d q = Li * p;
-          if (!(q.x() / q.z() <= 0)) q = Ri * p;
-          const double tx = q.x() / q.z(), ty = q.y() / q.z();
-          const int gx = static_cast<int>(std::floor((tx + 1) / cell)) + 1;
-          const int gy = static_cast<int>(std::floor((ty + 1) / cell)) + 1;
-          if (gx < 0 || gy < 0 || gx >= cells.n || gy >= cells.n) {
-            acc += background;
-            continue;
-          }
-          acc += cells.at(gy, gx) ? 0.95 : 0.05;
-        }
-      img.at(x, y) = static_cast<float>(acc / (ss * ss));
-    }
-  return img;
+  const auto to_tag = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+    const Eigen::Vector3d q = Li * p;
+    return q.x() / q.z() <= 0 ? q : Eigen::Vector3d(Ri * p);
+  };
+  return render_cells(w, h, cells, to_tag, background, ss, 0.05f, 0.95f);
 }
 
 }  // namespace tagbench::synth

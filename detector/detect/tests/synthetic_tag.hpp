@@ -12,21 +12,21 @@
 
 namespace tagbench::synth {
 
-// Renders the tag (white ring, black ring, payload) whose black square [-1,1]^2 maps to the image
-// through H, over a background; each pixel averages ss x ss sub-samples of its area (pixel centres
-// at integer coordinates). Intensities: white 1, black 0 (then scaled into [black, white]).
-inline ImageF render_tag(int w, int h, const TagCells& cells, const Eigen::Matrix3d& H, float background = 0.5f,
-                         int ss = 8, float black = 0.05f, float white = 0.95f) {
-  const Eigen::Matrix3d Hinv = H.inverse();
-  const int d = cells.n - 4;
-  const double cell = 2.0 / (d + 2);
+// Renders a tag's cells (white ring, black ring, payload) through `to_tag`, which takes an image point
+// (x, y, 1) to homogeneous tag coordinates whose black square is [-1,1]^2 (z == 0: the point is at
+// infinity, shown as background). Each pixel averages ss x ss sub-samples of its area (pixel centres at
+// integer coordinates). Intensities: white 1, black 0 (then scaled into [black, white]).
+template <class ToTag>
+ImageF render_cells(int w, int h, const TagCells& cells, ToTag to_tag, float background, int ss, float black,
+                    float white) {
+  const double cell = 2.0 / (cells.n - 2);
   ImageF img(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       double acc = 0;
       for (int j = 0; j < ss; ++j)
         for (int i = 0; i < ss; ++i) {
-          const Eigen::Vector3d q = Hinv * Eigen::Vector3d(x - 0.5 + (i + 0.5) / ss, y - 0.5 + (j + 0.5) / ss, 1.0);
+          const Eigen::Vector3d q = to_tag(Eigen::Vector3d(x - 0.5 + (i + 0.5) / ss, y - 0.5 + (j + 0.5) / ss, 1.0));
           if (q.z() == 0) { acc += background; continue; }
           const double tx = q.x() / q.z(), ty = q.y() / q.z();
           const int gx = static_cast<int>(std::floor((tx + 1) / cell)) + 1;
@@ -37,6 +37,14 @@ inline ImageF render_tag(int w, int h, const TagCells& cells, const Eigen::Matri
       img.at(x, y) = static_cast<float>(acc / (ss * ss));
     }
   return img;
+}
+
+// The tag whose black square [-1,1]^2 maps to the image through H, over a background.
+inline ImageF render_tag(int w, int h, const TagCells& cells, const Eigen::Matrix3d& H, float background = 0.5f,
+                         int ss = 8, float black = 0.05f, float white = 0.95f) {
+  const Eigen::Matrix3d Hinv = H.inverse();
+  return render_cells(
+      w, h, cells, [&](const Eigen::Vector3d& p) -> Eigen::Vector3d { return Hinv * p; }, background, ss, black, white);
 }
 
 // The homography of a tag whose black square has the given image corners (TL, TR, BR, BL).
