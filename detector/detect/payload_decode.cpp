@@ -53,46 +53,60 @@ bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector
   return good >= 3;
 }
 
+std::optional<PayloadReading> decide_cells(std::span<const double> grid, std::span<const double> payload, int d,
+                                           double min_contrast) {
+  const int n = d + 4;
+  const double cell = 2.0 / (d + 2);
+  const auto centre = [&](int g) { return -1.0 + (g - 0.5) * cell; };
+  std::vector<Eigen::Vector3d> white, black;
+  for (int gy = 0; gy < n; ++gy)
+    for (int gx = 0; gx < n; ++gx) {
+      const int ring = std::min({gx, gy, n - 1 - gx, n - 1 - gy});  // 0 white, 1 black, >= 2 payload
+      const double v = grid[static_cast<std::size_t>(gy * n + gx)];
+      if (ring >= 2 || std::isnan(v)) continue;  // border cells may leave the image; the models use the rest
+      (ring == 0 ? white : black).emplace_back(centre(gx), centre(gy), v);
+    }
+  const auto wm = fit_model(white), bm = fit_model(black);
+  if (!wm || !bm) return std::nullopt;
+  PayloadReading r;
+  r.contrast = wm->at(0, 0) - bm->at(0, 0);
+  if (!(r.contrast >= min_contrast)) return std::nullopt;
+  double margin = 1.0;
+  Code bits = 0;
+  for (int y = 0; y < d; ++y)
+    for (int x = 0; x < d; ++x) {
+      const double v = payload[static_cast<std::size_t>(y * d + x)];
+      if (std::isnan(v)) return std::nullopt;
+      const double tx = centre(x + 2), ty = centre(y + 2);
+      const double w = wm->at(tx, ty), b = bm->at(tx, ty);
+      const double thr = 0.5 * (w + b), half = 0.5 * (w - b);
+      margin = half > 0 ? std::min(margin, std::abs(v - thr) / half) : 0.0;
+      bits = (bits << 1) | (v > thr ? 1u : 0u);
+    }
+  r.bits = bits;
+  r.margin = std::clamp(margin, 0.0, 1.0);
+  return r;
+}
+
 std::optional<PayloadReading> read_payload(const ImageF& img, const Eigen::Matrix3d& H, int d,
                                            const PayloadOptions& opt, bool keep_points) {
   if (d < 1 || d > kMaxPayloadWidth) return std::nullopt;
   const int n = d + 4;
   const double cell = 2.0 / (d + 2);
   const auto centre = [&](int g) { return -1.0 + (g - 0.5) * cell; };
-  PayloadReading r;
-  std::vector<Eigen::Vector3d> white, black;
+  const auto map = [&](const Eigen::Vector2d& t) { return apply_homography(H, t); };
+  // One bilinear sample at each cell's centre (NaN off the image).
+  std::vector<double> grid(static_cast<std::size_t>(n * n)), payload(static_cast<std::size_t>(d * d));
   for (int gy = 0; gy < n; ++gy)
     for (int gx = 0; gx < n; ++gx) {
-      const int ring = std::min({gx, gy, n - 1 - gx, n - 1 - gy});  // 0 white, 1 black, >= 2 payload
-      if (ring >= 2) continue;
-      const Eigen::Vector2d t(centre(gx), centre(gy));
-      const Eigen::Vector2d p = apply_homography(H, t);
-      const auto v = sample_bilinear(img, p);
-      if (!v) continue;  // border cells may leave the image; the models use the rest
-      (ring == 0 ? white : black).emplace_back(t.x(), t.y(), *v);
-      if (keep_points) (ring == 0 ? r.white_points : r.black_points).push_back(p);
+      const auto v = sample_bilinear(img, map(Eigen::Vector2d(centre(gx), centre(gy))));
+      grid[static_cast<std::size_t>(gy * n + gx)] = v ? *v : std::nan("");
     }
-  const auto wm = fit_model(white), bm = fit_model(black);
-  if (!wm || !bm) return std::nullopt;
-  r.contrast = wm->at(0, 0) - bm->at(0, 0);
-  if (!(r.contrast >= opt.min_contrast)) return std::nullopt;
-  double margin = 1.0;
-  Code bits = 0;
   for (int y = 0; y < d; ++y)
-    for (int x = 0; x < d; ++x) {
-      const Eigen::Vector2d t(centre(x + 2), centre(y + 2));
-      const Eigen::Vector2d p = apply_homography(H, t);
-      const auto v = sample_bilinear(img, p);
-      if (!v) return std::nullopt;
-      const double w = wm->at(t.x(), t.y()), b = bm->at(t.x(), t.y());
-      const double thr = 0.5 * (w + b), half = 0.5 * (w - b);
-      if (half > 0) margin = std::min(margin, std::abs(*v - thr) / half);
-      else margin = 0;
-      bits = (bits << 1) | (*v > thr ? 1u : 0u);
-      if (keep_points) r.payload_points.push_back(p);
-    }
-  r.bits = bits;
-  r.margin = std::clamp(margin, 0.0, 1.0);
+    for (int x = 0; x < d; ++x)
+      payload[static_cast<std::size_t>(y * d + x)] = grid[static_cast<std::size_t>((y + 2) * n + x + 2)];
+  auto r = decide_cells(grid, payload, d, opt.min_contrast);
+  if (r && keep_points) add_sample_points(grid, d, map, *r);
   return r;
 }
 

@@ -13,7 +13,9 @@
 // quad's first corner; the decoder's rotation then says which corner is the printed top-left.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -73,5 +75,31 @@ inline std::optional<float> sample_bilinear(const ImageF& img, const Eigen::Vect
 // (opt.quick_reject plays no part here).
 std::optional<PayloadReading> read_payload(const ImageF& img, const Eigen::Matrix3d& H, int d,
                                            const PayloadOptions& opt = {}, bool keep_points = false);
+
+// The decision every payload reader shares (read_payload, read_payload_area): `grid` holds an
+// intensity per cell of the (d+4) x (d+4) grid, row-major (NaN where the cell left the image), from
+// which the white and black ring cells train the two models; `payload` holds the d x d values the
+// payload cells are judged by, row-major (the grid's own, or a sharpened copy). nullopt when a ring
+// gives no model, the contrast is below min_contrast or a payload value is NaN. Points are left empty
+// (add_sample_points fills them).
+std::optional<PayloadReading> decide_cells(std::span<const double> grid, std::span<const double> payload, int d,
+                                           double min_contrast);
+
+// The image points of the cells `decide_cells` used: ring cells with a value, every payload cell.
+// `map` takes tag coordinates to the image.
+template <class Map>
+void add_sample_points(std::span<const double> grid, int d, const Map& map, PayloadReading& r) {
+  const int n = d + 4;
+  const double cell = 2.0 / (d + 2);
+  const auto centre = [&](int g) { return -1.0 + (g - 0.5) * cell; };
+  for (int gy = 0; gy < n; ++gy)
+    for (int gx = 0; gx < n; ++gx) {
+      const int ring = std::min({gx, gy, n - 1 - gx, n - 1 - gy});
+      if (ring >= 2 || std::isnan(grid[static_cast<std::size_t>(gy * n + gx)])) continue;
+      (ring == 0 ? r.white_points : r.black_points).push_back(map(Eigen::Vector2d(centre(gx), centre(gy))));
+    }
+  for (int y = 0; y < d; ++y)
+    for (int x = 0; x < d; ++x) r.payload_points.push_back(map(Eigen::Vector2d(centre(x + 2), centre(y + 2))));
+}
 
 }  // namespace tagbench
