@@ -23,20 +23,12 @@ namespace {
 using Result = tagbench::testing::CommandResult;
 using tagbench::testing::slurp;
 
-fs::path scratch() {
-  const fs::path d = tagbench::testing::program_scratch("tagbench_cli_realistic");
-  fs::create_directories(d);
-  return d;
-}
+// The program's scratch folder (made on first use, removed at exit).
+const fs::path& scratch() { return tagbench::testing::program_scratch("tagbench_cli_realistic"); }
 
 Result run(const std::string& args) { return tagbench::testing::run_tagbench("realistic " + args, scratch()); }
 
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);) out.push_back(l);
-  return out;
-}
+using tagbench::testing::lines;
 
 std::string without_ms(const std::string& csv) { return tagbench::testing::csv_without_timing(csv); }
 

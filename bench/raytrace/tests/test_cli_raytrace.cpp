@@ -28,20 +28,12 @@ using Result = tagbench::testing::CommandResult;
 
 using tagbench::testing::slurp;
 
-fs::path scratch() {
-  const fs::path d = tagbench::testing::program_scratch("tagbench_cli_raytrace");
-  fs::create_directories(d);
-  return d;
-}
+// The program's scratch folder (made on first use, removed at exit).
+const fs::path& scratch() { return tagbench::testing::program_scratch("tagbench_cli_raytrace"); }
 
 Result run(const std::string& args) { return tagbench::testing::run_tagbench("raytrace " + args, scratch()); }
 
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);) out.push_back(l);
-  return out;
-}
+using tagbench::testing::lines;
 
 // The rows without the timing column (the last one).
 std::string without_ms(const std::string& csv) { return tagbench::testing::csv_without_timing(csv); }
