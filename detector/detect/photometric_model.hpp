@@ -65,8 +65,10 @@ struct PhotometricScratch {
 
 // Huber cost (threshold `huber`, intensity units) at `p`, and J^T W J, J^T W r with the IRLS weights;
 // `scale` is pixels per normalised unit. INFINITY (JtJ, Jtr unspecified) when a pixel maps behind the view.
+// column_dots: J^T W J's blocks as column dot products instead of Eigen's rank update (the same sums,
+// rounded differently: PhotometricRefineOptions::column_dot_sums).
 double photometric_normal_equations(const PhotometricPattern& pat, const PhotometricSamples& px, double scale,
                                     const PhotometricVec& p, double huber, PhotometricMat& JtJ, PhotometricVec& Jtr,
-                                    PhotometricScratch& s);
+                                    PhotometricScratch& s, bool column_dots = false);
 
 }  // namespace tagbench::detail
