@@ -157,13 +157,14 @@ double photometric_normal_equations(const PhotometricPattern& pat, const Photome
   JtJ.setZero();
   Jtr.setZero();
   Eigen::Matrix<float, kPhotometricParams, kPhotometricParams> block_jtj;
+  block_jtj.setZero();  // the column dot products leave the upper triangle at zero
   for (Eigen::Index b = 0; b < N; b += kBlock) {
     const Eigen::Index m = std::min(kBlock, N - b);
     const auto Jb = J.middleRows(b, m);
     if (column_dots) {
       // 120 dot products of contiguous columns (a block's columns stay in L1): about a third of the
       // general rank update's instructions at 15 columns (its packing and 8x4 kernel are built for
-      // large matrices). The upper triangle is not read.
+      // large matrices). Only the lower triangle is summed, as by the rank update.
       for (int a = 0; a < kPhotometricParams; ++a)
         for (int c = 0; c <= a; ++c) block_jtj(a, c) = Jb.col(a).dot(Jb.col(c));
     } else {
