@@ -20,6 +20,9 @@ PhotometricPattern::PhotometricPattern(const TagCells& c)
           if (white(iy - 1 + j, ix - 1 + i)) bits = static_cast<std::uint16_t>(bits | (1u << (3 * j + i)));
       neighbours[static_cast<std::size_t>((iy + 1) * (n + 2) + ix + 1)] = bits;
     }
+  neighbour_weights.resize(neighbours.size());
+  for (std::size_t i = 0; i < neighbours.size(); ++i)
+    for (std::size_t k = 0; k < 9; ++k) neighbour_weights[i][k] = static_cast<float>((neighbours[i] >> k) & 1u);
 }
 
 namespace {
@@ -108,8 +111,8 @@ double photometric_normal_equations(const PhotometricPattern& pat, const Photome
   for (auto& m : s.mask) m.resize(N);
   const int stride = pat.n + 2;
   for (Eigen::Index i = 0; i < N; ++i) {
-    const unsigned bits = pat.neighbours[static_cast<std::size_t>((s.iy[i] + 1) * stride + s.ix[i] + 1)];
-    for (int k = 0; k < 9; ++k) s.mask[k][i] = static_cast<float>((bits >> k) & 1u);
+    const auto& m = pat.neighbour_weights[static_cast<std::size_t>((s.iy[i] + 1) * stride + s.ix[i] + 1)];
+    for (std::size_t k = 0; k < 9; ++k) s.mask[k][i] = m[k];
   }
   const auto& ax = s.ax;
   const auto& ay = s.ay;
