@@ -69,6 +69,8 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "small_sharpen") o.payload_area.small_cell_sharpening = x;
     else if (k == "refine") o.threshold_quads.refine_edges = x != 0;
     else if (k == "gamma") o.threshold_quads.refine.gamma = x;
+    else if (k == "refine_iter") o.threshold_quads.refine.iterations = static_cast<int>(x);
+    else if (k == "refine_spacing") o.threshold_quads.refine.sample_spacing_px = x;
     else if (k == "hamming") o.max_hamming = static_cast<int>(x), o.hamming_by_family = false;  // every family
     else if (k == "byfamily") o.hamming_by_family = x != 0;
     else if (k == "tile") o.threshold_quads.threshold.tile_size = static_cast<int>(x);
@@ -91,6 +93,8 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "photo_band") o.photometric.band_px = x;
     else if (k == "photo_margin") o.photometric.margin_cells = x;
     else if (k == "photo_huber") o.photometric.huber = x;
+    else if (k == "photo_dots") o.photometric.column_dot_sums = x != 0;
+    else if (k == "photo_half_dots") o.photometric.half_res_column_dot_sums = x != 0;
     else if (k == "pguard") o.photometric_guard.enabled = x != 0;
     else if (k == "pguard_kink") o.photometric_guard.max_kink_px = x;
     else if (k == "pguard_blur") o.photometric_guard.max_blur_px = x;

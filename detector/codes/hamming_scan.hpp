@@ -1,7 +1,7 @@
 #pragma once
 // Linear scans of a word list for near words: the inner loop of both the lexicode generator and
 // the decoder. Uses AVX-512 VPOPCNTDQ (8 words per instruction) when the CPU has it, chosen at run
-// time, else scalar popcount; both give identical answers.
+// time, else the POPCNT instruction, else portable scalar popcount; all give identical answers.
 #include <cstddef>
 #include <cstdint>
 #include <optional>

@@ -12,6 +12,7 @@
 // (G: normalised image coordinates -> tag square, G33 = 1), a0 a1 a2 (black level, affine in the
 // normalised coordinates), b0 b1 b2 (contrast, likewise), sigma (blur, pixels).
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -36,6 +37,7 @@ struct PhotometricPattern {
   double cell;  // tag units per cell, 2 / (d + 2)
   std::vector<std::uint8_t> padded;       // (n + 2)^2, index (iy + 1) (n + 2) + ix + 1
   std::vector<std::uint16_t> neighbours;  // same indexing
+  std::vector<std::array<float, 9>> neighbour_weights;  // the same bits as 0/1 floats (the model's per-pixel gather)
   // Grid column/row of tag coordinate u (the black square's left edge is grid line 1), clamped to -1..n.
   // Truncation after a positive shift is floor() without the library call.
   int index(double u) const { return std::clamp(static_cast<int>((u + 1) / cell + 64) - 63, -1, n); }
@@ -65,8 +67,10 @@ struct PhotometricScratch {
 
 // Huber cost (threshold `huber`, intensity units) at `p`, and J^T W J, J^T W r with the IRLS weights;
 // `scale` is pixels per normalised unit. INFINITY (JtJ, Jtr unspecified) when a pixel maps behind the view.
+// column_dots: J^T W J's blocks as column dot products instead of Eigen's rank update (the same sums,
+// rounded differently: PhotometricRefineOptions::column_dot_sums).
 double photometric_normal_equations(const PhotometricPattern& pat, const PhotometricSamples& px, double scale,
                                     const PhotometricVec& p, double huber, PhotometricMat& JtJ, PhotometricVec& Jtr,
-                                    PhotometricScratch& s);
+                                    PhotometricScratch& s, bool column_dots = false);
 
 }  // namespace tagbench::detail

@@ -250,7 +250,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   // previous one is taken back and the fit stops there. The last step is taken on trust (no pass of
   // its own: the start is within a few hundredths of a pixel, where the model is nearly linear in the
   // geometry), bounded by max_corner_shift_px and the contrast check below.
-  double cost = detail::photometric_normal_equations(pat, samples, S, p, huber, JtJ, Jtr, scratch);
+  double cost = detail::photometric_normal_equations(pat, samples, S, p, huber, JtJ, Jtr, scratch, opt.column_dot_sums);
   for (int it = 0; it < opt.iterations; ++it) {
     PhotometricMat A = JtJ;
     A.diagonal() += 1e-6 * JtJ.diagonal().cwiseMax(1e-12);  // a touch of damping against a flat direction
@@ -262,7 +262,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
       p = q;
       break;
     }
-    const double c = detail::photometric_normal_equations(pat, samples, S, q, huber, JtJ, Jtr, scratch);
+    const double c = detail::photometric_normal_equations(pat, samples, S, q, huber, JtJ, Jtr, scratch, opt.column_dot_sums);
     if (!(c <= cost)) break;  // p stays
     p = q, cost = c;
   }

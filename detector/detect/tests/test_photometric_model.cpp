@@ -119,15 +119,18 @@ TEST(PhotometricModel, NeighbourBitsAreTheClampedCells) {
 }
 
 // The single-precision kernel gives the double reference's cost and normal equations to 1e-4
-// (the Gauss-Newton step then agrees to the same order); pixel counts around the block size.
+// (the Gauss-Newton step then agrees to the same order); pixel counts around the block size; J^T W J
+// by Eigen's rank update and by column dot products (PhotometricRefineOptions::column_dot_sums).
 TEST(PhotometricModel, NormalEquationsMatchTheDoubleReference) {
+  for (const bool dots : {false, true})
   for (const int count : {50, 511, 1500}) {
+    SCOPED_TRACE(dots ? "column dot products" : "rank update");
     const Problem pb = make_problem(static_cast<std::uint32_t>(count), count);
     const double scale = 20, huber = 0.05;
     PhotometricMat JtJ, JtJ_ref;
     PhotometricVec Jtr, Jtr_ref;
     PhotometricScratch scratch;
-    const double cost = photometric_normal_equations(pb.pat, pb.px, scale, pb.p, huber, JtJ, Jtr, scratch);
+    const double cost = photometric_normal_equations(pb.pat, pb.px, scale, pb.p, huber, JtJ, Jtr, scratch, dots);
     const double cost_ref = reference(pb.pat, pb.px, scale, pb.p, huber, JtJ_ref, Jtr_ref);
     EXPECT_NEAR(cost, cost_ref, 1e-4 * cost_ref) << count;
     EXPECT_LT(rel(JtJ, JtJ_ref), 1e-4) << count;
@@ -136,7 +139,7 @@ TEST(PhotometricModel, NormalEquationsMatchTheDoubleReference) {
     EXPECT_LT(rel(d, d_ref), 1e-3) << count;
     // The same scratch again (smaller problem): nothing left over from the larger one.
     const Problem small = make_problem(99, 40);
-    const double c2 = photometric_normal_equations(small.pat, small.px, scale, small.p, huber, JtJ, Jtr, scratch);
+    const double c2 = photometric_normal_equations(small.pat, small.px, scale, small.p, huber, JtJ, Jtr, scratch, dots);
     EXPECT_NEAR(c2, reference(small.pat, small.px, scale, small.p, huber, JtJ_ref, Jtr_ref), 1e-4 * c2);
   }
 }
