@@ -94,7 +94,6 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "photo_margin") o.photometric.margin_cells = x;
     else if (k == "photo_huber") o.photometric.huber = x;
     else if (k == "photo_dots") o.photometric.column_dot_sums = x != 0;
-    else if (k == "photo_half_dots") o.photometric.half_res_column_dot_sums = x != 0;
     else if (k == "pguard") o.photometric_guard.enabled = x != 0;
     else if (k == "pguard_kink") o.photometric_guard.max_kink_px = x;
     else if (k == "pguard_blur") o.photometric_guard.max_blur_px = x;

@@ -166,11 +166,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   drop_below_margin(out, opt_.min_decision_margin);
   if (opt_.occlusion_refit) refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);
-  if (opt_.photometric.enabled && !opt_.distortion) {  // a homography cannot fit a distorted tag
-    PhotometricRefineOptions photometric = opt_.photometric;
-    if (opt_.half_resolution && photometric.half_res_column_dot_sums) photometric.column_dot_sums = true;
-    refine_detections_photometric_guarded(out, gray, families_, photometric, opt_.photometric_guard);
-  }
+  if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
+    refine_detections_photometric_guarded(out, gray, families_, opt_.photometric, opt_.photometric_guard);
   tm.decode = ms_since(t);
 
   // 7. Poses.

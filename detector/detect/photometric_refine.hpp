@@ -52,12 +52,9 @@ struct PhotometricRefineOptions {
   double huber = 0.15;               // Huber threshold, fraction of the tag's contrast (white - black)
   double min_contrast = 0.02;        // white minus black at the tag centre (intensity units) at least this
   // Speed: J^T W J summed as column dot products instead of Eigen's general rank update (about a
-  // third of its instructions at 15 columns; photometric_model.hpp). The same sums rounded in another
-  // order (1e-7 relative), so corners move by ~1e-6 px. Off: the full-resolution detector's output
-  // stays bit for bit as measured; the detector turns it on with DetectorOptions::half_resolution
-  // (half_res_column_dot_sums), where this stage is a third of the time.
-  bool column_dot_sums = false;
-  bool half_res_column_dot_sums = true;
+  // third of its instructions at 15 columns; photometric_model.hpp); false keeps the rank update.
+  // The same sums rounded in another order (1e-7 relative): corners move by ~1e-6 px.
+  bool column_dot_sums = true;
 };
 
 // The black square's corners (TL, TR, BR, BL of the printed tag, as in Detection) refined on `img`
