@@ -177,7 +177,8 @@ struct DetectorOptions {
   //                           margin_cells [0, 1); band_px, initial_blur_px, max_corner_shift_px,
   //                           max_blur_cells finite > 0; min_black_square_px, huber, pixels_per_side_px finite >= 0;
   //                           min_contrast [0, 1];
-  //   photometric_guard       max_kink_px, min_kink_significance, min_side_px, max_blur_px finite >= 0;
+  //   photometric_guard       max_kink_px, min_kink_significance, min_side_px, max_blur_px, hidden_depth_cells,
+  //                           hidden_pad_cells finite >= 0;
   //                           kink as for bent.kink;
   //   bent                    min_kink_px finite >= 0; precheck_samples 4..256; precheck_fraction [0, 1];
   //                           kink.samples 4..256, kink.end_margin [0, 0.5),

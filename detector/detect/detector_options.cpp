@@ -213,6 +213,8 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("photometric_guard.max_blur_px", photometric_guard.max_blur_px, 0);
   finite_at_least("photometric_guard.min_kink_significance", photometric_guard.min_kink_significance, 0);
   finite_at_least("photometric_guard.min_side_px", photometric_guard.min_side_px, 0);
+  finite_at_least("photometric_guard.hidden_depth_cells", photometric_guard.hidden_depth_cells, 0);
+  finite_at_least("photometric_guard.hidden_pad_cells", photometric_guard.hidden_pad_cells, 0);
   validate_border_kink("photometric_guard.kink", photometric_guard.kink);
   finite_at_least("bent.min_kink_px", bent.min_kink_px, 0);
   validate_border_kink("bent.kink", bent.kink);
