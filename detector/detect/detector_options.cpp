@@ -216,6 +216,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("photometric_guard.min_side_px", photometric_guard.min_side_px, 0);
   finite_at_least("photometric_guard.hidden_depth_cells", photometric_guard.hidden_depth_cells, 0);
   finite_at_least("photometric_guard.hidden_pad_cells", photometric_guard.hidden_pad_cells, 0);
+  finite_at_least("photometric_guard.keep_scale_min_blur_px", photometric_guard.keep_scale_min_blur_px, 0);
   validate_border_kink("photometric_guard.kink", photometric_guard.kink);
   finite_at_least("pose_choice.max_alternative_rms_px", pose_choice.max_alternative_rms_px, 0);
   finite_at_least("pose_choice.min_correlation_gain", pose_choice.min_correlation_gain, 0);

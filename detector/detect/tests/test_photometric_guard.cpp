@@ -96,3 +96,44 @@ TEST(PhotometricGuard, OccludedTagIsRefinedWithoutItsHiddenPart) {
   EXPECT_LT(e_masked, 0.03);
   EXPECT_LT(e_masked, 0.5 * e_unmasked) << e_masked << " vs " << e_unmasked;
 }
+
+// align_tag_scale undoes a similarity of the tag plane (scale about the centre, shift) exactly.
+TEST(PhotometricGuard, AlignTagScaleRecoversASimilarityOfTheTagPlane) {
+  const Corners c = synth::square_tag_corners(60.3, 59.1, 64, 0.25);
+  Corners skewed = c;
+  skewed[2] += Eigen::Vector2d(3, 1);  // a perspective view, not a square
+  const Eigen::Matrix3d H = synth::homography_for(skewed);
+  const std::array<Eigen::Vector2d, 4> u{Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 1),
+                                         Eigen::Vector2d(-1, 1)};
+  Corners scaled;
+  for (std::size_t i = 0; i < 4; ++i) scaled[i] = apply_homography(H, 1.04 * u[i] + Eigen::Vector2d(0.02, -0.01));
+  const auto a = align_tag_scale(scaled, skewed);
+  ASSERT_TRUE(a);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_LT(((*a)[i] - skewed[i]).norm(), 1e-6);
+}
+
+// A heavily blurred tag (median edge blur above keep_scale_min_blur_px) is refined and the result
+// scaled onto the edge-refined corners; with blurred_keep_scale off it keeps its corners.
+TEST(PhotometricGuard, HeavilyBlurredTagIsRefinedThenScaledOntoTheEdgeCorners) {
+  const TagFamily& f = builtin_family("36h11");
+  const std::vector<TagFamily> fams{f};
+  const Corners truth = synth::square_tag_corners(70.3, 69.1, 80, 0.25);
+  const ImageF img = gaussian_blur(synth::render_tag(140, 140, tag_cells(f, 2), synth::homography_for(truth)), 2.4);
+  BorderKinkOptions k = PhotometricGuardOptions::flat_kink_options();
+  const auto sides = measure_border_kinks(img, truth, k);
+  ASSERT_TRUE(sides);
+  ASSERT_GT(median_blur_px(*sides), PhotometricGuardOptions{}.keep_scale_min_blur_px);
+  Detection d;
+  d.family = "36h11";
+  d.id = 2;
+  d.corners = synth::perturbed(truth, 0.15, 5);
+  std::vector<Detection> on{d}, off{d};
+  const PhotometricGuardOptions g;
+  refine_detections_photometric_guarded(on, img, fams, PhotometricRefineOptions{}, g);
+  PhotometricGuardOptions keep = g;
+  keep.blurred_keep_scale = false;
+  refine_detections_photometric_guarded(off, img, fams, PhotometricRefineOptions{}, keep);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(off[0].corners[i], d.corners[i]);
+  EXPECT_GT(synth::corner_rms(on[0].corners, d.corners), 1e-3);
+  EXPECT_LT(synth::corner_rms(on[0].corners, truth), synth::corner_rms(d.corners, truth));
+}
