@@ -107,6 +107,7 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "posechoice") o.pose_choice.enabled = x != 0;
     else if (k == "posechoice_rms") o.pose_choice.max_alternative_rms_px = x;
     else if (k == "posechoice_gain") o.pose_choice.min_correlation_gain = x;
+    else if (k == "posechoice_view") o.pose_choice.min_view_angle_deg = x;
     else if (k == "bent") o.bent.enabled = x != 0;
     else if (k == "bent_kink") o.bent.min_kink_px = x;
     else if (k == "bent_pre") o.bent.precheck_fraction = x;

@@ -184,6 +184,7 @@ struct DetectorOptions {
   //   photometric_guard       max_kink_px, min_kink_significance, min_side_px, max_blur_px, hidden_depth_cells,
   //                           hidden_pad_cells, keep_scale_min_blur_px finite >= 0;
   //   pose_choice             max_alternative_rms_px, min_correlation_gain finite >= 0; samples_per_cell 1..16;
+  //                           min_view_angle_deg [0, 90];
   //                           kink as for bent.kink;
   //   bent                    min_kink_px finite >= 0; precheck_samples 4..256; precheck_fraction [0, 1];
   //                           kink.samples 4..256, kink.end_margin [0, 0.5),

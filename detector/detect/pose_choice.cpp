@@ -42,6 +42,9 @@ void choose_poses_photometric(std::span<Detection> detections, const ImageF& img
   for (Detection& d : detections) {
     if (!d.pose || !d.pose_alternative || !(d.pose_alternative->reprojection_rms_px <= opt.max_alternative_rms_px))
       continue;
+    const Pose& p = d.pose->pose;
+    const double cos_view = std::abs(p.R.col(2).dot(p.t.normalized()));
+    if (!(std::acos(std::min(1.0, cos_view)) * 180 / M_PI >= opt.min_view_angle_deg)) continue;
     for (const TagFamily& f : families) {
       if (f.name() != d.family) continue;
       const TagCells cells = tag_cells(f, d.id);

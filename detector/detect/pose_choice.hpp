@@ -30,6 +30,11 @@ struct PoseChoiceOptions {
   // ... and reported when its pattern correlation exceeds the best solution's by at least this.
   double min_correlation_gain = 0.02;
   int samples_per_cell = 3;            // per cell and axis, at the sub-cells' centres
+  // Only tags the reported pose sees at least this steeply (degrees between the tag's normal and the
+  // line of sight) are judged: at gentler views the corners decide reliably, and a tag that is not one
+  // plane (bent 30 degrees, seen at 0-30 degrees) matches neither solution's pattern well, so the
+  // correlation would pick the worse one (conditions bent 30: orientation p90 7.0 -> 51 deg without this).
+  double min_view_angle_deg = 70;
 };
 
 // Pearson correlation between the printed pattern `cells` (1 = white, every cell of the n x n layout)

@@ -70,6 +70,13 @@ TEST(PoseChoice, FlippedPoseIsSwappedForTheOneThePatternConfirms) {
   disabled.enabled = false;
   choose_poses_photometric(off, v.img, fams, v.K, v.size, disabled);
   EXPECT_GT(rotation_angle_deg(off[0].pose->pose.R, v.truth.R), 20);
+  // A view gentler than min_view_angle_deg is left to the corners (a tag that is not one plane fools
+  // the pattern there).
+  PoseChoiceOptions steep;
+  steep.min_view_angle_deg = 80;
+  std::vector<Detection> gentle{d};
+  choose_poses_photometric(gentle, v.img, fams, v.K, v.size, steep);
+  EXPECT_GT(rotation_angle_deg(gentle[0].pose->pose.R, v.truth.R), 20);
   // The right pose reported: kept.
   std::swap(d.pose, d.pose_alternative);
   std::vector<Detection> right{d};
