@@ -6,7 +6,9 @@
 //     corners (bent 10 degrees: orientation error median 0.67 deg refined vs 0.13 edge-refined);
 //   - a heavily blurred edge (blur sigma 2 px on a 66 px tag: corner RMS 0.076 px vs 0.023).
 // The guard measures the border (border_kink.hpp) on the unblurred image and leaves a detection's
-// corners as they are when a side's kink or the edges' median blur exceeds its limit.
+// corners as they are when a side's kink or the edges' median blur exceeds its limit. Two cases are
+// judged differently (options below): an occluded tag (sides occlusion_refit.hpp re-fitted) is refined
+// without its hidden part, and a very blurred one is refined and then scaled onto its edge corners.
 #include <array>
 #include <optional>
 #include <span>
