@@ -102,6 +102,15 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "pguard_fold") o.photometric_guard.kink.max_fold_offset = x;
     else if (k == "pguard_range") o.photometric_guard.kink.range_cells = x;
     else if (k == "pguard_samples") o.photometric_guard.kink.samples = static_cast<int>(x);
+    else if (k == "pguard_hidden") o.photometric_guard.skip_hidden_sides = x != 0;
+    else if (k == "pguard_mask") o.photometric_guard.hidden_depth_cells = x;
+    else if (k == "pguard_pad") o.photometric_guard.hidden_pad_cells = x;
+    else if (k == "pguard_blurscale") o.photometric_guard.blurred_keep_scale = x != 0;
+    else if (k == "pguard_blurscale_px") o.photometric_guard.keep_scale_min_blur_px = x;
+    else if (k == "posechoice") o.pose_choice.enabled = x != 0;
+    else if (k == "posechoice_rms") o.pose_choice.max_alternative_rms_px = x;
+    else if (k == "posechoice_gain") o.pose_choice.min_correlation_gain = x;
+    else if (k == "posechoice_view") o.pose_choice.min_view_angle_deg = x;
     else if (k == "bent") o.bent.enabled = x != 0;
     else if (k == "bent_kink") o.bent.min_kink_px = x;
     else if (k == "bent_pre") o.bent.precheck_fraction = x;

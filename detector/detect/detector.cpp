@@ -68,26 +68,33 @@ void DetectorWorkspace::release() {
 namespace {
 
 // occlusion_refit.hpp on every detection: corners (and homography, centre) replaced, or withdrawn
-// (then copied, as decoded, to `withdrawn` if given).
-void refit_occluded(std::vector<Detection>& dets, const ImageF& gray, const std::vector<TagFamily>& families,
-                    const OcclusionRefitOptions& opt, std::vector<Detection>* withdrawn) {
-  std::erase_if(dets, [&](Detection& d) {
+// (then copied, as decoded, to `withdrawn` if given). Returns, per detection kept, its hidden sides.
+std::vector<HiddenSides> refit_occluded(std::vector<Detection>& dets, const ImageF& gray,
+                                        const std::vector<TagFamily>& families, const OcclusionRefitOptions& opt,
+                                        std::vector<Detection>* withdrawn) {
+  std::vector<HiddenSides> hidden;
+  std::vector<Detection> kept;
+  for (Detection& d : dets) {
     const auto f = std::find_if(families.begin(), families.end(), [&](const TagFamily& x) { return x.name() == d.family; });
-    if (f == families.end()) return false;
-    const OcclusionRefitResult r = refit_occluded_sides(gray, d.corners, f->payload_width() + 2, opt);
-    const auto withdraw = [&] {
-      if (withdrawn) withdrawn->push_back(d);
-      return true;
-    };
-    if (!r.corners) return withdraw();
-    if (r.sides_refitted == 0) return false;
-    const auto H = tag_homography(*r.corners);
-    if (!H) return withdraw();
-    d.corners = *r.corners;
-    d.homography = *H;
-    d.center = apply_homography(*H, Eigen::Vector2d::Zero());
-    return false;
-  });
+    OcclusionRefitResult r;
+    if (f != families.end()) {
+      r = refit_occluded_sides(gray, d.corners, f->payload_width() + 2, opt);
+      const auto H = r.corners && r.sides_refitted > 0 ? tag_homography(*r.corners) : std::nullopt;
+      if (!r.corners || (r.sides_refitted > 0 && !H)) {
+        if (withdrawn) withdrawn->push_back(d);
+        continue;
+      }
+      if (H) {
+        d.corners = *r.corners;
+        d.homography = *H;
+        d.center = apply_homography(*H, Eigen::Vector2d::Zero());
+      }
+    }
+    hidden.push_back(r.hidden);
+    kept.push_back(std::move(d));
+  }
+  dets = std::move(kept);
+  return hidden;
 }
 
 }  // namespace
@@ -165,13 +172,16 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   drop_below_margin(out, opt_.min_decision_margin);
-  if (opt_.occlusion_refit) refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);
+  std::vector<HiddenSides> hidden;
+  if (opt_.occlusion_refit) hidden = refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);
   if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
-    refine_detections_photometric_guarded(out, gray, families_, opt_.photometric, opt_.photometric_guard);
+    refine_detections_photometric_guarded(out, gray, families_, opt_.photometric, opt_.photometric_guard, hidden);
   tm.decode = ms_since(t);
 
   // 7. Poses.
   if (opt_.camera) estimate_poses(out, *opt_.camera, opt_.tag_size, opt_.distortion, opt_.refine_pose);
+  if (opt_.camera && opt_.refine_pose && !opt_.distortion)  // the pattern is projected through a pinhole
+    choose_poses_photometric(out, gray, families_, *opt_.camera, opt_.tag_size, opt_.pose_choice);
   tm.pose = ms_since(t);
   tm.total = std::chrono::duration<double, std::milli>(Clock::now() - t_start).count();
   for (auto& d : out) d.timings = tm;

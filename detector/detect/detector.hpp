@@ -32,6 +32,7 @@
 #include "payload_decode.hpp"
 #include "bent_decode.hpp"
 #include "photometric_guard.hpp"
+#include "pose_choice.hpp"
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
@@ -138,6 +139,9 @@ struct DetectorOptions {
   std::optional<std::array<double, 5>> distortion;  // OpenCV's k1, k2, p1, p2, k3; corners are undistorted first
   double tag_size = 0;
   bool refine_pose = true;  // beyond the paper: minimise the corners' reprojection error, both ambiguity solutions
+  // Beyond the paper: with refine_pose and no distortion, the ambiguity's two solutions judged on the image
+  // against the decoded pattern (pose_choice.hpp). Default profile on; paper(): off.
+  PoseChoiceOptions pose_choice;
   // Image-size limit (width x height pixels). detect() refuses a larger image with
   // std::invalid_argument ("image WxH (N pixels) is over the detector's limit of M pixels ...")
   // before allocating anything, so one huge input cannot exhaust memory. Detection needs about
@@ -177,7 +181,10 @@ struct DetectorOptions {
   //                           margin_cells [0, 1); band_px, initial_blur_px, max_corner_shift_px,
   //                           max_blur_cells finite > 0; min_black_square_px, huber, pixels_per_side_px finite >= 0;
   //                           min_contrast [0, 1];
-  //   photometric_guard       max_kink_px, min_kink_significance, min_side_px, max_blur_px finite >= 0;
+  //   photometric_guard       max_kink_px, min_kink_significance, min_side_px, max_blur_px, hidden_depth_cells,
+  //                           hidden_pad_cells, keep_scale_min_blur_px finite >= 0;
+  //   pose_choice             max_alternative_rms_px, min_correlation_gain finite >= 0; samples_per_cell 1..16;
+  //                           min_view_angle_deg [0, 90];
   //                           kink as for bent.kink;
   //   bent                    min_kink_px finite >= 0; precheck_samples 4..256; precheck_fraction [0, 1];
   //                           kink.samples 4..256, kink.end_margin [0, 0.5),

@@ -143,6 +143,7 @@ DetectorOptions DetectorOptions::paper() {
   o.hamming_by_family = false;
   o.bent.enabled = false;
   o.photometric_guard.enabled = false;
+  o.pose_choice.enabled = false;
   return o;
 }
 
@@ -213,7 +214,14 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("photometric_guard.max_blur_px", photometric_guard.max_blur_px, 0);
   finite_at_least("photometric_guard.min_kink_significance", photometric_guard.min_kink_significance, 0);
   finite_at_least("photometric_guard.min_side_px", photometric_guard.min_side_px, 0);
+  finite_at_least("photometric_guard.hidden_depth_cells", photometric_guard.hidden_depth_cells, 0);
+  finite_at_least("photometric_guard.hidden_pad_cells", photometric_guard.hidden_pad_cells, 0);
+  finite_at_least("photometric_guard.keep_scale_min_blur_px", photometric_guard.keep_scale_min_blur_px, 0);
   validate_border_kink("photometric_guard.kink", photometric_guard.kink);
+  finite_at_least("pose_choice.max_alternative_rms_px", pose_choice.max_alternative_rms_px, 0);
+  finite_at_least("pose_choice.min_correlation_gain", pose_choice.min_correlation_gain, 0);
+  within("pose_choice.min_view_angle_deg", pose_choice.min_view_angle_deg, 0, 90);
+  int_within("pose_choice.samples_per_cell", pose_choice.samples_per_cell, 1, 16);
   finite_at_least("bent.min_kink_px", bent.min_kink_px, 0);
   validate_border_kink("bent.kink", bent.kink);
   int_within("bent.precheck_samples", bent.precheck_samples, 4, 256);

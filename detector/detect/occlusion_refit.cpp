@@ -99,7 +99,13 @@ OcclusionRefitResult refit_occluded_sides(const ImageF& img, const Corners& corn
         for (int j = std::max(0, k - opt.erode_samples); j <= std::min(count - 1, k + opt.erode_samples); ++j)
           keep[static_cast<std::size_t>(j)] = 0;
     int visible = 0;
-    for (char c : keep) visible += c;
+    double first = 1, last = 0;
+    for (int k = 0; k < count; ++k) {
+      visible += keep[static_cast<std::size_t>(k)];
+      if (keep[static_cast<std::size_t>(k)]) continue;
+      first = std::min(first, ts[i][static_cast<std::size_t>(k)] / sides[i].len);
+      last = std::max(last, ts[i][static_cast<std::size_t>(k)] / sides[i].len);
+    }
     if (visible < std::max(3.0, opt.min_visible * count)) return res;  // too little of this side to fix its line
 
     const double range = std::clamp(0.45 * cells[i], 1.0, 2.5), step = 0.25, h = 0.5;
@@ -134,6 +140,7 @@ OcclusionRefitResult refit_occluded_sides(const ImageF& img, const Corners& corn
       if (s.n.dot(sides[i].n) < 0) s.n = -s.n;
     }
     ++res.sides_refitted;
+    res.hidden[i] = std::array<double, 2>{first, last};
   }
   Corners out = corners;
   if (res.sides_refitted > 0)

@@ -21,6 +21,7 @@
 // contrast under `min_median_contrast` is too faint to judge: the detection is kept as it is.
 //
 // Units: pixels; corners in the Detection convention (printed order TL, TR, BR, BL, any winding).
+#include <array>
 #include <optional>
 
 #include "homography.hpp"
@@ -46,6 +47,9 @@ struct OcclusionRefitOptions {
 struct OcclusionRefitResult {
   std::optional<Corners> corners;  // nullopt: withdraw the detection
   int sides_refitted = 0;
+  // Per re-fitted side i (corners[i] -> corners[i + 1]): the part its fit left out, as fractions of
+  // the side's length from corners[i] (first and last dropped sample; the occluder's extent along it).
+  std::array<std::optional<std::array<double, 2>>, 4> hidden{};
 };
 
 // `img`: the unblurred image; `cells_across`: cells across the black square (payload width + 2).

@@ -42,7 +42,8 @@ Eigen::Vector2d map(const Eigen::Matrix3d& M, double x, double y) {
 }  // namespace
 
 std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
-                                                  const PhotometricRefineOptions& opt) {
+                                                  const PhotometricRefineOptions& opt,
+                                                  std::span<const TagBox> excluded) {
   if (img.empty() || cells.n < 5) return std::nullopt;
   const auto H = tag_homography(corners);
   if (!H) return std::nullopt;
@@ -208,6 +209,10 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
         for (int j = 0; j < 3 && !edge; ++j)
           for (int i = 0; i < 3 && !edge; ++i) edge = pat.white(cy[j], cx[i]) != v0;
       }
+      if (edge && !excluded.empty() && std::any_of(excluded.begin(), excluded.end(), [&](const TagBox& b) {
+            return u1 >= b.u1_lo && u1 <= b.u1_hi && u2 >= b.u2_lo && u2 <= b.u2_hi;
+          }))
+        edge = false;
       if (edge) px.push_back({xn_[k], yn, img.at(rx[k], y)});
     }
   }

@@ -57,10 +57,18 @@ struct PhotometricRefineOptions {
   bool column_dot_sums = true;
 };
 
+// A part of the tag the fit leaves out (a known occluder's, photometric_guard.hpp): tag coordinates
+// (the black square [-1,1]^2) u1 in [u1_lo, u1_hi] and u2 in [u2_lo, u2_hi].
+struct TagBox {
+  double u1_lo = 0, u1_hi = 0, u2_lo = 0, u2_hi = 0;
+};
+
 // The black square's corners (TL, TR, BR, BL of the printed tag, as in Detection) refined on `img`
 // (the unblurred image) for the tag whose printed cells are `cells`; nullopt when rejected (above).
+// Pixels whose tag coordinates (through the starting corners) fall in an `excluded` box are not used.
 std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
-                                                  const PhotometricRefineOptions& opt);
+                                                  const PhotometricRefineOptions& opt,
+                                                  std::span<const TagBox> excluded = {});
 
 // Every detection whose family is among `families`: corners, homography and centre replaced by the
 // refined ones where the refinement succeeds; the rest left alone.
