@@ -117,6 +117,8 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "outer_ring") o.threshold_quads.fit.outer.ring_check = x != 0;
     else if (k == "ring_share") o.threshold_quads.fit.outer.ring_min_share = x;
     else if (k == "ring_step") o.threshold_quads.fit.outer.ring_min_step = x;
+    else if (k == "ring_ratio") o.threshold_quads.fit.outer.min_side_ratio = x;
+    else if (k == "outer_half") o.threshold_quads.fit.outer.at_half_resolution = x != 0;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

@@ -96,6 +96,7 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
     fail("threshold_quads.fit.outer.max_size_px", q.fit.outer.max_size_px, "must be > 0");
   within("threshold_quads.fit.outer.ring_min_share", q.fit.outer.ring_min_share, 0, 1);
   finite_at_least("threshold_quads.fit.outer.ring_min_step", q.fit.outer.ring_min_step, 0);
+  within("threshold_quads.fit.outer.min_side_ratio", q.fit.outer.min_side_ratio, 0, 1);
 }
 
 void validate_occlusion_refit(const OcclusionRefitOptions& o) {

@@ -71,9 +71,10 @@ bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOpt
     return (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
   };
   constexpr double kIn = 1.0 / 16, kOut = -1.0 / 16;
-  int up = 0;
   double sum = 0;
-  for (int side = 0; side < 4; ++side)
+  bool every_side = true;
+  for (int side = 0; side < 4; ++side) {
+    int up = 0;
     for (const double t : {0.2, 0.4, 0.6, 0.8}) {
       // side 0: v = 0 (q0 -> q1), 1: u = 1, 2: v = 1, 3: u = 0; d is the depth into the square.
       auto uv = [&](double d) -> Eigen::Vector2d {
@@ -89,7 +90,17 @@ bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOpt
       up += step > 0;
       sum += step;
     }
-  return up >= opt.ring_min_share * 16 && sum / 16 >= opt.ring_min_step;
+    every_side = every_side && up >= opt.ring_min_share * 4;
+  }
+  if (!every_side || sum / 16 < opt.ring_min_step) return false;
+  // The shape: the shortest side at least min_side_ratio of the longest (a square tilted 65 degrees
+  // away keeps about 0.4); the slivers an outline of texture gives fail here.
+  double shortest = HUGE_VAL, longest = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double len = (q[(i + 1) & 3] - q[i]).norm();
+    shortest = std::min(shortest, len), longest = std::max(longest, len);
+  }
+  return shortest >= opt.min_side_ratio * longest;
 }
 
 }  // namespace tagbench

@@ -42,8 +42,13 @@ struct OuterOutlineOptions {
   // outline quad that is not a tag, and each quad costs an edge refinement and a decode (most of the
   // fallback's time): the check throws those away for 32 samples.
   bool ring_check = false;
-  double ring_min_share = 0.75;             // of the sample pairs, at least this share must step up, [0, 1]
-  double ring_min_step = 3.0 / 255.0;       // and their mean step (ring - border) at least this, >= 0
+  double ring_min_share = 0.75;        // of each side's sample pairs, at least this share must step up, [0, 1]
+  double ring_min_step = 3.0 / 255.0;  // and the mean step (ring - border) of all at least this, >= 0
+  double min_side_ratio = 0.3;         // shortest side / longest side at least this, [0, 1]
+  // threshold_quads.hpp's use: whether the refit also runs when quads are found at half resolution.
+  // Off: there a 20 px tag is 10 px and its ring 1-1.5 px, and the refit cost the half-resolution
+  // profile 0.84 -> 1.03 of libapriltag d2's time on the realistic set (target <= 1.0).
+  bool at_half_resolution = false;
 };
 
 struct OuterOutlineScratch {
@@ -61,8 +66,9 @@ void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutli
 // just inside each side than just outside: 4 samples a side (at 0.2, 0.4, 0.6, 0.8 of it), each a pair
 // 1/16 of the quad's width inward (the black border's cells: 1/8 of a 36h11 square, 1/6 of 16h5's)
 // and 1/16 outward (the white ring's), placed by the corners' bilinear map, read bilinearly. True
-// when at least ring_min_share of the 16 pairs are lighter outside and their mean step (outside -
-// inside) is at least ring_min_step.
+// when on every side at least ring_min_share of the 4 pairs are lighter outside, the mean step
+// (outside - inside) of the 16 is at least ring_min_step, and the shortest side is at least
+// min_side_ratio of the longest.
 bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOptions& opt);
 
 }  // namespace tagbench

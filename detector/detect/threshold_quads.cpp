@@ -31,6 +31,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
 
   QuadFitOptions fit = opt.fit;
   if (halve) fit.min_tag_width = std::max(3.0, fit.min_tag_width / 2), fit.outer.max_size_px /= 2;
+  if (halve && !fit.outer.at_half_resolution) fit.refit_outer_outline = false;
   fit_quads(ws.groups, in, fit, ws.fit, out);
   if (halve)
     for (Quad& q : out) {
