@@ -75,6 +75,8 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "byfamily") o.hamming_by_family = x != 0;
     else if (k == "tile") o.threshold_quads.threshold.tile_size = static_cast<int>(x);
     else if (k == "contrast") o.threshold_quads.threshold.min_contrast = static_cast<float>(x);
+    else if (k == "low_contrast") o.threshold_quads.threshold.low_contrast = static_cast<float>(x);
+    else if (k == "weber") o.threshold_quads.threshold.weber_ratio = static_cast<float>(x);
     else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);
     else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
     else if (k == "margin") o.min_decision_margin = x;
@@ -123,6 +125,12 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "outer_bins") o.threshold_quads.fit.outer.bins = static_cast<int>(x);
     else if (k == "outer_tol") o.threshold_quads.fit.outer.tolerance = x;
     else if (k == "outer_drop") o.threshold_quads.fit.outer.min_dropped = x;
+    else if (k == "outer_max") o.threshold_quads.fit.outer.max_size_px = x;
+    else if (k == "outer_ring") o.threshold_quads.fit.outer.ring_check = x != 0;
+    else if (k == "ring_share") o.threshold_quads.fit.outer.ring_min_share = x;
+    else if (k == "ring_step") o.threshold_quads.fit.outer.ring_min_step = x;
+    else if (k == "ring_ratio") o.threshold_quads.fit.outer.min_side_ratio = x;
+    else if (k == "outer_half") o.threshold_quads.fit.outer.at_half_resolution = x != 0;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

@@ -55,13 +55,18 @@ enum class PayloadReaderKind {
            // payload_area.hpp); min_contrast is PayloadOptions::min_contrast
 };
 
-// The threshold quad finder's options in the default profile: occluded tags are fitted too. Not (yet)
-// the outer outline (fit.refit_outer_outline, outer_outline.hpp): on the realistic set (200 frames)
-// it finds 20-24 px tags 121 -> 132 of 188 and all sizes 857 -> 897 of 1384, but as written it
-// refits every failed group of a textured photograph: +38 % time on corpus images.
+// The threshold quad finder's options in the default profile: occluded tags are fitted too, and a
+// group whose fit fails (or leaves out much of it) is fitted again on its outer outline
+// (fit.refit_outer_outline, outer_outline.hpp), only for groups up to 50 px across and only keeping
+// outline quads with a lighter ring around a darker border (outer.ring_check). Realistic set (200
+// frames): 20-24 px tags 123 -> 135 of 188, all sizes 883 -> 931 of 1384; time / libapriltag d1
+// 0.54 -> 0.66 on 300 corpus images, 0.51 -> 0.64 on 60 realistic frames (issue 17, session 7).
 inline ThresholdQuadOptions default_profile_threshold_quads() {
   ThresholdQuadOptions q;
   q.fit.tolerate_occlusion = true;
+  q.fit.refit_outer_outline = true;
+  q.fit.outer.max_size_px = 50;
+  q.fit.outer.ring_check = true;
   return q;
 }
 

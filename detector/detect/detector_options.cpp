@@ -59,6 +59,8 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   finite_at_least("threshold_quads.blur_sigma", q.blur_sigma, 0);
   int_within("threshold_quads.threshold.tile_size", q.threshold.tile_size, 1, 256);
   within("threshold_quads.threshold.min_contrast", q.threshold.min_contrast, 0, 1);
+  within("threshold_quads.threshold.low_contrast", q.threshold.low_contrast, 0, 1);
+  finite_at_least("threshold_quads.threshold.weber_ratio", q.threshold.weber_ratio, 0);
   int_within("threshold_quads.boundaries.min_component_pixels", q.boundaries.min_component_pixels, 1,
              kMaxPixelsCeiling);
   int_within("threshold_quads.fit.min_points", q.fit.min_points, 4, kMaxPixelsCeiling);
@@ -90,6 +92,11 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
     fail("threshold_quads.fit.outer.tolerance", q.fit.outer.tolerance, "must be in (0, 1)");
   within("threshold_quads.fit.outer.min_dropped", q.fit.outer.min_dropped, 0, 1);
   finite_at_least("threshold_quads.fit.outer.min_corner_change_px", q.fit.outer.min_corner_change_px, 0);
+  if (!(q.fit.outer.max_size_px > 0))  // infinity allowed: every group
+    fail("threshold_quads.fit.outer.max_size_px", q.fit.outer.max_size_px, "must be > 0");
+  within("threshold_quads.fit.outer.ring_min_share", q.fit.outer.ring_min_share, 0, 1);
+  finite_at_least("threshold_quads.fit.outer.ring_min_step", q.fit.outer.ring_min_step, 0);
+  within("threshold_quads.fit.outer.min_side_ratio", q.fit.outer.min_side_ratio, 0, 1);
 }
 
 void validate_occlusion_refit(const OcclusionRefitOptions& o) {

@@ -47,4 +47,60 @@ void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutli
     if (s.radius[i] >= keep * s.widened[static_cast<std::size_t>(s.bin[i])]) out.push_back(s.side[i]);
 }
 
+namespace {
+
+// Bilinear sample, coordinates clamped to the image (pixel centres at integers).
+float sample(const ImageF& img, double x, double y) {
+  x = std::clamp(x, 0.0, static_cast<double>(img.width - 1));
+  y = std::clamp(y, 0.0, static_cast<double>(img.height - 1));
+  const int x0 = std::min(static_cast<int>(x), img.width - 2 < 0 ? 0 : img.width - 2);
+  const int y0 = std::min(static_cast<int>(y), img.height - 2 < 0 ? 0 : img.height - 2);
+  const int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const float top = img.at(x0, y0) + fx * (img.at(x1, y0) - img.at(x0, y0));
+  const float bottom = img.at(x0, y1) + fx * (img.at(x1, y1) - img.at(x0, y1));
+  return top + fy * (bottom - top);
+}
+
+}  // namespace
+
+bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOptions& opt) {
+  if (img.empty()) return false;
+  // (u, v) in [0, 1]^2 -> image: q[0] at (0, 0), q[1] at (1, 0), q[2] at (1, 1), q[3] at (0, 1).
+  auto at = [&](double u, double v) {
+    return (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
+  };
+  constexpr double kIn = 1.0 / 16, kOut = -1.0 / 16;
+  double sum = 0;
+  bool every_side = true;
+  for (int side = 0; side < 4; ++side) {
+    int up = 0;
+    for (const double t : {0.2, 0.4, 0.6, 0.8}) {
+      // side 0: v = 0 (q0 -> q1), 1: u = 1, 2: v = 1, 3: u = 0; d is the depth into the square.
+      auto uv = [&](double d) -> Eigen::Vector2d {
+        switch (side) {
+          case 0: return at(t, d);
+          case 1: return at(1 - d, t);
+          case 2: return at(t, 1 - d);
+          default: return at(d, t);
+        }
+      };
+      const Eigen::Vector2d pi = uv(kIn), po = uv(kOut);
+      const float step = sample(img, po.x(), po.y()) - sample(img, pi.x(), pi.y());
+      up += step > 0;
+      sum += step;
+    }
+    every_side = every_side && up >= opt.ring_min_share * 4;
+  }
+  if (!every_side || sum / 16 < opt.ring_min_step) return false;
+  // The shape: the shortest side at least min_side_ratio of the longest (a square tilted 65 degrees
+  // away keeps about 0.4); the slivers an outline of texture gives fail here.
+  double shortest = HUGE_VAL, longest = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double len = (q[(i + 1) & 3] - q[i]).norm();
+    shortest = std::min(shortest, len), longest = std::max(longest, len);
+  }
+  return shortest >= opt.min_side_ratio * longest;
+}
+
 }  // namespace tagbench

@@ -14,10 +14,13 @@
 //      16h5's), the square's edge all the way: a convex quad seen from a point inside it.
 // Coordinates: BoundaryPoint's doubled pixels (boundaries.hpp); the centre is the outward points'
 // bounding-box centre.
+#include <limits>
 #include <span>
 #include <vector>
 
 #include "boundaries.hpp"
+#include "image.hpp"
+#include "homography.hpp"
 
 namespace tagbench {
 
@@ -29,6 +32,23 @@ struct OuterOutlineOptions {
   // and its quad differs from the first by more than min_corner_change_px at some corner (>= 0).
   double min_dropped = 0.1;
   double min_corner_change_px = 1.0;
+  // Only groups whose bounding box's longer side is at most this many px (of the image the groups
+  // come from) are tried, > 0; infinity tries every group. The fallback is for small tags, whose ring
+  // is 2-3 px wide; on natural images most groups are large texture outlines, where it costs the
+  // most (their many points) and never finds a tag the group's own fit missed.
+  double max_size_px = std::numeric_limits<double>::infinity();
+  // The ring check (quad_fit.hpp's use; outline_has_ring below): an outline's quad is kept only when
+  // it looks like a dark square inside a light ring. Most failed groups of a natural image give an
+  // outline quad that is not a tag, and each quad costs an edge refinement and a decode (most of the
+  // fallback's time): the check throws those away for 32 samples.
+  bool ring_check = false;
+  double ring_min_share = 0.75;        // of each side's sample pairs, at least this share must step up, [0, 1]
+  double ring_min_step = 3.0 / 255.0;  // and the mean step (ring - border) of all at least this, >= 0
+  double min_side_ratio = 0.3;         // shortest side / longest side at least this, [0, 1]
+  // threshold_quads.hpp's use: whether the refit also runs when quads are found at half resolution.
+  // Off: there a 20 px tag is 10 px and its ring 1-1.5 px, and the refit cost the half-resolution
+  // profile 0.84 -> 1.03 of libapriltag d2's time on the realistic set (target <= 1.0).
+  bool at_half_resolution = false;
 };
 
 struct OuterOutlineScratch {
@@ -41,5 +61,14 @@ struct OuterOutlineScratch {
 // The outward, outermost points of `group` into `out` (cleared first); out may be empty.
 void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutlineOptions& opt,
                           OuterOutlineScratch& scratch, std::vector<BoundaryPoint>& out);
+
+// Whether the quad `q` (corners in order around it, px, pixel centres at integers) of `img` is darker
+// just inside each side than just outside: 4 samples a side (at 0.2, 0.4, 0.6, 0.8 of it), each a pair
+// 1/16 of the quad's width inward (the black border's cells: 1/8 of a 36h11 square, 1/6 of 16h5's)
+// and 1/16 outward (the white ring's), placed by the corners' bilinear map, read bilinearly. True
+// when on every side at least ring_min_share of the 4 pairs are lighter outside, the mean step
+// (outside - inside) of the 16 is at least ring_min_step, and the shortest side is at least
+// min_side_ratio of the longest.
+bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOptions& opt);
 
 }  // namespace tagbench

@@ -100,6 +100,16 @@ void corner_candidates(QuadFitScratch& s, int max_maxima) {
 }
 
 // The largest distance between corresponding corners of two quads, px.
+// The longer side of the group's bounding box, px.
+double box_side_px(std::span<const BoundaryPoint> group) {
+  int xmin = group[0].x2, xmax = xmin, ymin = group[0].y2, ymax = ymin;
+  for (const auto& p : group) {
+    xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
+    ymin = std::min(ymin, p.y2), ymax = std::max(ymax, p.y2);
+  }
+  return 0.5 * std::max(xmax - xmin, ymax - ymin);
+}
+
 double max_corner_distance(const Corners& a, const Corners& b) {
   double d = 0;
   for (std::size_t i = 0; i < 4; ++i) d = std::max(d, (a[i] - b[i]).norm());
@@ -253,11 +263,12 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
     // occluded fit: an occluder's outline is outermost there, and the fit has already left it out.
     std::optional<Corners> second;
     if ((own_fit || !c) && opt.refit_outer_outline && opt.dark_inside &&
-        static_cast<int>(group.size()) > std::max(opt.min_points, 4)) {
+        static_cast<int>(group.size()) > std::max(opt.min_points, 4) && box_side_px(group) <= opt.outer.max_size_px) {
       outer_outline_points(group, opt.outer, s.outer, s.side);
       const double dropped = 1.0 - static_cast<double>(s.side.size()) / static_cast<double>(group.size());
       if (c ? dropped >= opt.outer.min_dropped : s.side.size() < group.size()) {
-        const auto o = fit_quad(s.side, img, opt, s);
+        auto o = fit_quad(s.side, img, opt, s);
+        if (o && opt.outer.ring_check && !outline_has_ring(*o, img, opt.outer)) o.reset();
         if (!c) c = o;
         else if (o && max_corner_distance(*o, *c) > opt.outer.min_corner_change_px) second = o;
       }

@@ -92,6 +92,9 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
   if (opt.tile_size < 1) throw std::invalid_argument("threshold tile size " + std::to_string(opt.tile_size) + " is below 1");
   if (!(opt.min_contrast >= 0) || !std::isfinite(opt.min_contrast))
     throw std::invalid_argument("threshold min_contrast must be finite and >= 0");
+  if (!(opt.low_contrast >= 0) || !std::isfinite(opt.low_contrast) || !(opt.weber_ratio >= 0) ||
+      !std::isfinite(opt.weber_ratio))
+    throw std::invalid_argument("threshold low_contrast and weber_ratio must be finite and >= 0");
   const int w = img.width, h = img.height, t = opt.tile_size;
   out.width = w;
   out.height = h;
@@ -136,10 +139,19 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
     float* tmid = s.tile_mid.data();
     std::uint8_t* tflat = s.tile_flat.data();
     const float min_contrast = opt.min_contrast;
-    for (int tx = 0; tx < tw; ++tx) {
-      const float mn = tmin[tx], mx = tmax[tx];
-      tflat[tx] = mx - mn < min_contrast ? 0xFF : 0;
-      tmid[tx] = mn + 0.5f * (mx - mn);
+    if (opt.low_contrast < min_contrast) {  // the relative floor: see ThresholdOptions
+      const float low = opt.low_contrast, weber = opt.weber_ratio;
+      for (int tx = 0; tx < tw; ++tx) {
+        const float mn = tmin[tx], mx = tmax[tx], d = mx - mn;
+        tflat[tx] = d < min_contrast && (d < low || d < weber * mx) ? 0xFF : 0;
+        tmid[tx] = mn + 0.5f * d;
+      }
+    } else {
+      for (int tx = 0; tx < tw; ++tx) {
+        const float mn = tmin[tx], mx = tmax[tx];
+        tflat[tx] = mx - mn < min_contrast ? 0xFF : 0;
+        tmid[tx] = mn + 0.5f * (mx - mn);
+      }
     }
     switch (t) {  // columns past the image's last one (a partial last tile) are filled but never read
       case 2: spread<2>(tmid, tflat, tw, t, mid, flat); break;

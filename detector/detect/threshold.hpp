@@ -31,6 +31,14 @@ struct ThresholdOptions {
   // more), but time / libapriltag d1 0.55 -> 0.95 on the realistic set and 0.61 -> 0.80 on the corpus.
   int tile_size = 2;                    // px, >= 1
   float min_contrast = 20.0f / 255.0f;  // max - min below this is flat: unknown
+  // Relative contrast floor (beyond AprilTag 2/3; issue 17, shaded small tags of the realistic set):
+  // a neighbourhood whose max - min is under min_contrast is still classed when max - min is at least
+  // low_contrast (absolute) and at least weber_ratio x max (Weber contrast against the bright side).
+  // A tag in shade or with grey ink has a small absolute but a large relative step; bright texture,
+  // whose small steps are a small fraction of its brightness, stays flat (and so stays free).
+  // Off when low_contrast >= min_contrast (the default), i.e. max - min < min_contrast is flat.
+  float low_contrast = 20.0f / 255.0f;  // absolute floor of the relative test, >= 0
+  float weber_ratio = 0.0f;             // (max - min) / max at least this, >= 0
 };
 
 // The classed image: one byte a pixel, values kTernaryDark, kTernaryLight or kTernaryUnknown.
@@ -50,7 +58,7 @@ struct ThresholdScratch {
 };
 
 // Classes every pixel of `img` into `out` (resized; storage reused). Throws std::invalid_argument
-// for tile_size < 1 or a negative or non-finite min_contrast.
+// for tile_size < 1 or a negative or non-finite min_contrast, low_contrast or weber_ratio.
 void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, ThresholdScratch& scratch, TernaryImage& out);
 
 // Convenience form with its own scratch (allocates per call).

@@ -30,7 +30,8 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   st.ms_boundaries = lap_ms(t);
 
   QuadFitOptions fit = opt.fit;
-  if (halve) fit.min_tag_width = std::max(3.0, fit.min_tag_width / 2);
+  if (halve) fit.min_tag_width = std::max(3.0, fit.min_tag_width / 2), fit.outer.max_size_px /= 2;
+  if (halve && !fit.outer.at_half_resolution) fit.refit_outer_outline = false;
   fit_quads(ws.groups, in, fit, ws.fit, out);
   if (halve)
     for (Quad& q : out) {

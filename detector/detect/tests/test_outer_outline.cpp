@@ -123,3 +123,74 @@ TEST(OuterOutline, ACleanSquareGivesOneQuad) {
   fit_quads(groups, img, opt, s, quads);
   EXPECT_EQ(quads.size(), 1u);
 }
+
+namespace {
+// The group of FitQuadsFallsBackOnTheOutlineWhenTheGroupFitsNoQuad: a 20 px square (30..50) whose
+// own fit fails, its outline's fit succeeds.
+BoundaryGroups square_with_inner_cell() {
+  BoundaryGroups groups;
+  outline(groups.points, 80, 20, 1);
+  std::vector<BoundaryPoint> cell;
+  outline(cell, 0, 10, 1);
+  for (auto p : cell) groups.points.push_back({p.x2 + 74, p.y2 + 74, p.gx, p.gy});
+  groups.offsets = {0, static_cast<std::uint32_t>(groups.points.size())};
+  return groups;
+}
+// An 80 x 80 image: light ground (0.3 + step), the square 30..50 dark (0.3); blank: no square.
+ImageF ringed_square(float step, bool blank = false) {
+  ImageF img(80, 80, 0.3f + step);
+  if (!blank)
+    for (int y = 30; y <= 50; ++y)
+      for (int x = 30; x <= 50; ++x) img.at(x, y) = 0.3f;
+  return img;
+}
+}  // namespace
+
+// Groups larger than max_size_px are not tried (the group's box is 20 px).
+TEST(OuterOutline, MaxSizeSkipsLargerGroups) {
+  const BoundaryGroups groups = square_with_inner_cell();
+  const ImageF img(80, 80, 0.5f);
+  QuadFitScratch s;
+  QuadFitOptions opt;
+  opt.refit_outer_outline = true;
+  std::vector<Quad> quads;
+  opt.outer.max_size_px = 19;
+  fit_quads(groups, img, opt, s, quads);
+  EXPECT_TRUE(quads.empty());
+  opt.outer.max_size_px = 21;
+  fit_quads(groups, img, opt, s, quads);
+  EXPECT_EQ(quads.size(), 1u);
+}
+
+// The ring check: a dark square on a lighter ground passes, the same corners on a flat image or with
+// the ring darker than the square fail, and a step below ring_min_step fails.
+TEST(OuterOutline, RingCheckWantsADarkSquareInsideALightRing) {
+  const Corners q = {Eigen::Vector2d(30, 30), Eigen::Vector2d(50, 30), Eigen::Vector2d(50, 50),
+                     Eigen::Vector2d(30, 50)};
+  OuterOutlineOptions opt;
+  EXPECT_TRUE(outline_has_ring(q, ringed_square(0.1f), opt));
+  EXPECT_FALSE(outline_has_ring(q, ringed_square(0.1f, true), opt));
+  EXPECT_FALSE(outline_has_ring(q, ringed_square(-0.1f), opt));  // light square on a dark ground
+  EXPECT_TRUE(outline_has_ring(q, ringed_square(4.0f / 255), opt));
+  opt.ring_min_step = 5.0 / 255;
+  EXPECT_FALSE(outline_has_ring(q, ringed_square(4.0f / 255), opt));
+  // The corners' order around the square does not matter (either direction, any start).
+  opt = {};
+  const Corners r = {q[2], q[1], q[0], q[3]};
+  EXPECT_TRUE(outline_has_ring(r, ringed_square(0.1f), opt));
+}
+
+// In fit_quads: with ring_check the outline's quad is kept on a ringed square and dropped on a flat image.
+TEST(OuterOutline, FitQuadsDropsOutlineQuadsWithoutARing) {
+  const BoundaryGroups groups = square_with_inner_cell();
+  QuadFitScratch s;
+  QuadFitOptions opt;
+  opt.refit_outer_outline = true;
+  opt.outer.ring_check = true;
+  std::vector<Quad> quads;
+  fit_quads(groups, ringed_square(0.1f), opt, s, quads);
+  EXPECT_EQ(quads.size(), 1u);
+  quads.clear();
+  fit_quads(groups, ringed_square(0.1f, true), opt, s, quads);
+  EXPECT_TRUE(quads.empty());
+}

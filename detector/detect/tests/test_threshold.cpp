@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <stdexcept>
 
@@ -118,4 +119,71 @@ TEST(Threshold, EqualsThePerPixelDefinitionOnRandomImages) {
           ASSERT_EQ(got.at(x, y), want) << w << "x" << h << " tile " << t << " at " << x << "," << y;
         }
     }
+}
+
+// The relative floor: a 12/255 step is flat under the absolute floor of 20/255 alone; with
+// low_contrast 10/255 and weber_ratio 0.15 it is classed on a dark ground (12/255 of a 60/255 maximum,
+// 0.2) and stays flat on a bright one (12/255 of 220/255, 0.05); a step under low_contrast stays flat.
+TEST(Threshold, RelativeFloorClassesLowContrastStepsOnDarkGroundOnly) {
+  auto step_image = [](float lo, float step) {
+    ImageF img(16, 16, lo);
+    for (int y = 0; y < 16; ++y)
+      for (int x = 8; x < 16; ++x) img.at(x, y) = lo + step;
+    return img;
+  };
+  ThresholdOptions opt;
+  const ImageF dark = step_image(48.0f / 255, 12.0f / 255), bright = step_image(208.0f / 255, 12.0f / 255);
+  EXPECT_EQ(adaptive_threshold(dark, opt).at(8, 3), kTernaryUnknown);
+  opt.low_contrast = 10.0f / 255;
+  opt.weber_ratio = 0.15f;
+  const TernaryImage d = adaptive_threshold(dark, opt);
+  EXPECT_EQ(d.at(7, 3), kTernaryDark);
+  EXPECT_EQ(d.at(8, 3), kTernaryLight);
+  EXPECT_EQ(adaptive_threshold(bright, opt).at(8, 3), kTernaryUnknown);
+  EXPECT_EQ(adaptive_threshold(step_image(20.0f / 255, 8.0f / 255), opt).at(8, 3), kTernaryUnknown);  // 8 < 10
+  // Steps at or above min_contrast are classed whatever the ratio.
+  opt.weber_ratio = 1.0f;
+  EXPECT_EQ(adaptive_threshold(step_image(200.0f / 255, 25.0f / 255), opt).at(8, 3), kTernaryLight);
+  // Bad values are refused.
+  opt.weber_ratio = -0.1f;
+  EXPECT_THROW(adaptive_threshold(dark, opt), std::invalid_argument);
+  opt = {};
+  opt.low_contrast = std::nanf("");
+  EXPECT_THROW(adaptive_threshold(dark, opt), std::invalid_argument);
+}
+
+// The relative floor against its definition, pixel by pixel, as the test above for min_contrast.
+TEST(Threshold, RelativeFloorEqualsItsDefinitionOnRandomImages) {
+  std::mt19937 rng(18);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const int w = 53, h = 37;
+  ImageF img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) img.at(x, y) = (x / 12 % 2 ? 0.15f : 0.75f) + 0.08f * u(rng);
+  for (const int t : {2, 3}) {
+    ThresholdOptions opt;
+    opt.tile_size = t;
+    opt.low_contrast = 10.0f / 255;
+    opt.weber_ratio = 0.2f;
+    const TernaryImage got = adaptive_threshold(img, opt);
+    const int tw = (w + t - 1) / t, th = (h + t - 1) / t;
+    int relative = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float mn = 2, mx = -1;
+        for (int ty = std::max(0, y / t - 1); ty <= std::min(th - 1, y / t + 1); ++ty)
+          for (int tx = std::max(0, x / t - 1); tx <= std::min(tw - 1, x / t + 1); ++tx)
+            for (int yy = ty * t; yy < std::min(h, ty * t + t); ++yy)
+              for (int xx = tx * t; xx < std::min(w, tx * t + t); ++xx) {
+                mn = std::min(mn, img.at(xx, yy));
+                mx = std::max(mx, img.at(xx, yy));
+              }
+        const float d = mx - mn;
+        const bool flat = d < opt.min_contrast && (d < opt.low_contrast || d < opt.weber_ratio * mx);
+        relative += d < opt.min_contrast && !flat;
+        const std::uint8_t want = flat ? kTernaryUnknown : img.at(x, y) > mn + 0.5f * d ? kTernaryLight : kTernaryDark;
+        ASSERT_EQ(got.at(x, y), want) << "tile " << t << " at " << x << "," << y;
+      }
+    EXPECT_GT(relative, 0) << "tile " << t;  // the relative floor decided some pixels
+  }
 }
