@@ -57,16 +57,19 @@ enum class PayloadReaderKind {
 
 // The threshold quad finder's options in the default profile: occluded tags are fitted too, and a
 // group whose fit fails (or leaves out much of it) is fitted again on its outer outline
-// (fit.refit_outer_outline, outer_outline.hpp), only for groups up to 50 px across and only keeping
-// outline quads with a lighter ring around a darker border (outer.ring_check). Realistic set (200
-// frames): 20-24 px tags 123 -> 135 of 188, all sizes 883 -> 931 of 1384; time / libapriltag d1
-// 0.54 -> 0.66 on 300 corpus images, 0.51 -> 0.64 on 60 realistic frames (issue 17, session 7).
+// (fit.refit_outer_outline, outer_outline.hpp), only for groups up to 50 px across, only keeping
+// outline quads with a lighter ring around a darker border on every sample of every side
+// (outer.ring_check, ring_min_share 1: 0.75 let 16h5 false detections on the corpus rise 0.075 ->
+// 0.21 per image, 1 gives 0.12 for 4 fewer realistic tags of 929) and not at half resolution
+// (outer.at_half_resolution). Realistic set (200 frames): 20-24 px tags 123 -> 134 of 188, all sizes
+// 883 -> 925 of 1384; time / libapriltag d1 about 0.54 -> 0.66 on the corpus (issue 17, session 7).
 inline ThresholdQuadOptions default_profile_threshold_quads() {
   ThresholdQuadOptions q;
   q.fit.tolerate_occlusion = true;
   q.fit.refit_outer_outline = true;
   q.fit.outer.max_size_px = 50;
   q.fit.outer.ring_check = true;
+  q.fit.outer.ring_min_share = 1.0;
   return q;
 }
 

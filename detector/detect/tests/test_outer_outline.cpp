@@ -180,6 +180,23 @@ TEST(OuterOutline, RingCheckWantsADarkSquareInsideALightRing) {
   EXPECT_TRUE(outline_has_ring(r, ringed_square(0.1f), opt));
 }
 
+// A dark bar 21 x 5 px in a lighter ground has its ring, but is no tag seen at up to 70 degrees:
+// min_side_ratio (shortest / longest side) refuses it.
+TEST(OuterOutline, RingCheckRefusesASliver) {
+  ImageF img(80, 80, 0.4f);
+  for (int y = 30; y <= 34; ++y)
+    for (int x = 30; x <= 50; ++x) img.at(x, y) = 0.3f;
+  const Corners q = {Eigen::Vector2d(29.5, 29.5), Eigen::Vector2d(50.5, 29.5), Eigen::Vector2d(50.5, 34.5),
+                     Eigen::Vector2d(29.5, 34.5)};
+  OuterOutlineOptions opt;
+  opt.min_side_ratio = 0;
+  EXPECT_TRUE(outline_has_ring(q, img, opt));
+  opt.min_side_ratio = 0.3;  // 5 / 21 = 0.24
+  EXPECT_FALSE(outline_has_ring(q, img, opt));
+  opt.min_side_ratio = 0.2;
+  EXPECT_TRUE(outline_has_ring(q, img, opt));
+}
+
 // In fit_quads: with ring_check the outline's quad is kept on a ringed square and dropped on a flat image.
 TEST(OuterOutline, FitQuadsDropsOutlineQuadsWithoutARing) {
   const BoundaryGroups groups = square_with_inner_cell();
