@@ -115,30 +115,15 @@ void refine_detections_photometric_guarded(std::span<Detection> detections, cons
       const ModelFit fit = guard.enabled ? judge(img, d.corners, f.payload_width() + 2, guard, h) : ModelFit::kFits;
       if (fit == ModelFit::kBent || fit == ModelFit::kBlurred || (fit == ModelFit::kVeryBlurred && !guard.blurred_keep_scale))
         break;
-      if (fit == ModelFit::kVeryBlurred) {
-        const std::vector<TagBox> boxes = hidden_tag_boxes(d.corners, f.payload_width() + 2, h, guard);
-        const auto c = refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt, boxes);
-        const auto a = c ? align_tag_scale(*c, d.corners) : std::nullopt;
-        const auto H = a ? tag_homography(*a) : std::nullopt;
-        if (H) {
-          d.corners = *a;
-          d.homography = *H;
-          d.center = apply_homography(*H, Eigen::Vector2d::Zero());
-        }
-        break;
-      }
-      if (!guard.enabled || !occluded) {
+      // Plain refinement, or (an occluded side's hidden stretch, or heavy blur) the refinement without
+      // the hidden stretch, its result scaled onto the edge corners when heavily blurred.
+      if (!guard.enabled || (!occluded && fit != ModelFit::kVeryBlurred)) {
         refine_detections_photometric(std::span<Detection>(&d, 1), img, std::span<const TagFamily>(&f, 1), opt);
         break;
       }
       const std::vector<TagBox> boxes = hidden_tag_boxes(d.corners, f.payload_width() + 2, h, guard);
       const auto c = refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt, boxes);
-      const auto H = c ? tag_homography(*c) : std::nullopt;
-      if (H) {
-        d.corners = *c;
-        d.homography = *H;
-        d.center = apply_homography(*H, Eigen::Vector2d::Zero());
-      }
+      move_detection_to(d, fit == ModelFit::kVeryBlurred && c ? align_tag_scale(*c, d.corners) : c);
       break;
     }
   }

@@ -286,18 +286,21 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   return out;
 }
 
+bool move_detection_to(Detection& d, const std::optional<Corners>& corners) {
+  const auto H = corners ? tag_homography(*corners) : std::nullopt;
+  if (!H) return false;
+  d.corners = *corners;
+  d.homography = *H;
+  d.center = apply_homography(*H, Eigen::Vector2d::Zero());
+  return true;
+}
+
 void refine_detections_photometric(std::span<Detection> detections, const ImageF& img,
                                    std::span<const TagFamily> families, const PhotometricRefineOptions& opt) {
   for (Detection& d : detections)
     for (const TagFamily& f : families) {
       if (f.name() != d.family) continue;
-      const auto c = refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt);
-      const auto H = c ? tag_homography(*c) : std::nullopt;
-      if (H) {
-        d.corners = *c;
-        d.homography = *H;
-        d.center = apply_homography(*H, Eigen::Vector2d::Zero());
-      }
+      move_detection_to(d, refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt));
       break;
     }
 }

@@ -70,6 +70,10 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
                                                   const PhotometricRefineOptions& opt,
                                                   std::span<const TagBox> excluded = {});
 
+// Moves a detection onto new corners, its homography and centre with them; false (and the detection
+// unchanged) when `corners` is empty or gives no homography.
+bool move_detection_to(Detection& d, const std::optional<Corners>& corners);
+
 // Every detection whose family is among `families`: corners, homography and centre replaced by the
 // refined ones where the refinement succeeds; the rest left alone.
 void refine_detections_photometric(std::span<Detection> detections, const ImageF& img,
