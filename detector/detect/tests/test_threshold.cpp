@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include "detect/threshold.hpp"
 #include "synthetic.hpp"
@@ -84,6 +85,23 @@ TEST(Threshold, ScratchReuseGivesTheSameResultWithoutReallocating) {
   EXPECT_EQ(a.data, b.data);
 }
 
+namespace {
+// The definition of a pixel's window: min and max over the pixels of the 3 x 3 tiles (tile size t)
+// around the pixel's tile.
+std::pair<float, float> window_min_max(const tagbench::ImageF& img, int t, int x, int y) {
+  const int w = img.width, h = img.height, tw = (w + t - 1) / t, th = (h + t - 1) / t;
+  float mn = 2, mx = -1;
+  for (int ty = std::max(0, y / t - 1); ty <= std::min(th - 1, y / t + 1); ++ty)
+    for (int tx = std::max(0, x / t - 1); tx <= std::min(tw - 1, x / t + 1); ++tx)
+      for (int yy = ty * t; yy < std::min(h, ty * t + t); ++yy)
+        for (int xx = tx * t; xx < std::min(w, tx * t + t); ++xx) {
+          mn = std::min(mn, img.at(xx, yy));
+          mx = std::max(mx, img.at(xx, yy));
+        }
+  return {mn, mx};
+}
+}  // namespace
+
 // The tile pipeline (tile min / max, 3 x 3 tile widening, per-column midpoints) against the
 // definition, pixel by pixel: min and max over the pixels of the 3 x 3 tiles around the pixel's
 // tile, flat below min_contrast, light above the midpoint. Odd sizes, partial tiles, every tile size
@@ -102,17 +120,9 @@ TEST(Threshold, EqualsThePerPixelDefinitionOnRandomImages) {
       ThresholdOptions opt;
       opt.tile_size = t;
       const TernaryImage got = adaptive_threshold(img, opt);
-      const int tw = (w + t - 1) / t, th = (h + t - 1) / t;
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-          float mn = 2, mx = -1;
-          for (int ty = std::max(0, y / t - 1); ty <= std::min(th - 1, y / t + 1); ++ty)
-            for (int tx = std::max(0, x / t - 1); tx <= std::min(tw - 1, x / t + 1); ++tx)
-              for (int yy = ty * t; yy < std::min(h, ty * t + t); ++yy)
-                for (int xx = tx * t; xx < std::min(w, tx * t + t); ++xx) {
-                  mn = std::min(mn, img.at(xx, yy));
-                  mx = std::max(mx, img.at(xx, yy));
-                }
+          const auto [mn, mx] = window_min_max(img, t, x, y);
           const std::uint8_t want = mx - mn < opt.min_contrast ? kTernaryUnknown
                                     : img.at(x, y) > mn + 0.5f * (mx - mn) ? kTernaryLight
                                                                            : kTernaryDark;
@@ -166,18 +176,10 @@ TEST(Threshold, RelativeFloorEqualsItsDefinitionOnRandomImages) {
     opt.low_contrast = 10.0f / 255;
     opt.weber_ratio = 0.2f;
     const TernaryImage got = adaptive_threshold(img, opt);
-    const int tw = (w + t - 1) / t, th = (h + t - 1) / t;
     int relative = 0;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
-        float mn = 2, mx = -1;
-        for (int ty = std::max(0, y / t - 1); ty <= std::min(th - 1, y / t + 1); ++ty)
-          for (int tx = std::max(0, x / t - 1); tx <= std::min(tw - 1, x / t + 1); ++tx)
-            for (int yy = ty * t; yy < std::min(h, ty * t + t); ++yy)
-              for (int xx = tx * t; xx < std::min(w, tx * t + t); ++xx) {
-                mn = std::min(mn, img.at(xx, yy));
-                mx = std::max(mx, img.at(xx, yy));
-              }
+        const auto [mn, mx] = window_min_max(img, t, x, y);
         const float d = mx - mn;
         const bool flat = d < opt.min_contrast && (d < opt.low_contrast || d < opt.weber_ratio * mx);
         relative += d < opt.min_contrast && !flat;
