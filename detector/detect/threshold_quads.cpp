@@ -9,6 +9,15 @@ namespace tagbench {
 using detail::lap_ms;
 using Clock = detail::StageClock;
 
+QuadFitOptions quad_fit_options_for(const QuadFitOptions& fit, bool halved) {
+  QuadFitOptions f = fit;
+  if (!halved) return f;
+  f.min_tag_width = std::max(3.0, f.min_tag_width / 2);
+  f.outer.max_size_px /= 2;
+  if (!f.outer.at_half_resolution) f.refit_outer_outline = false;
+  return f;
+}
+
 void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, ThresholdQuadWorkspace& ws,
                           std::vector<Quad>& out, ThresholdQuadStats* stats) {
   out.clear();
@@ -29,10 +38,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   group_boundaries(ws.ternary, ws.components, opt.boundaries, ws.boundary_scratch, ws.groups);
   st.ms_boundaries = lap_ms(t);
 
-  QuadFitOptions fit = opt.fit;
-  if (halve) fit.min_tag_width = std::max(3.0, fit.min_tag_width / 2), fit.outer.max_size_px /= 2;
-  if (halve && !fit.outer.at_half_resolution) fit.refit_outer_outline = false;
-  fit_quads(ws.groups, in, fit, ws.fit, out);
+  fit_quads(ws.groups, in, quad_fit_options_for(opt.fit, halve), ws.fit, out);
   if (halve)
     for (Quad& q : out) {
       for (auto& c : q.corners) c = Eigen::Vector2d(full_from_half(c.x()), full_from_half(c.y()));

@@ -59,6 +59,11 @@ struct ThresholdQuadStats {
   std::size_t components = 0, groups = 0, boundary_points = 0, quads = 0;
 };
 
+// The quad fit's options on the image the quads are found on: at half resolution (halved) the
+// sizes in full-resolution pixels are halved (min_tag_width, at least 3; outer.max_size_px) and the
+// outer-outline refit runs only with outer.at_half_resolution.
+QuadFitOptions quad_fit_options_for(const QuadFitOptions& fit, bool halved);
+
 // Appends the candidate quads of `img` to `out` (cleared first).
 void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, ThresholdQuadWorkspace& ws,
                           std::vector<Quad>& out, ThresholdQuadStats* stats = nullptr);

@@ -4,6 +4,7 @@
 
 #include "detect/outer_outline.hpp"
 #include "detect/quad_fit.hpp"
+#include "detect/threshold_quads.hpp"
 
 using namespace tagbench;
 
@@ -210,4 +211,25 @@ TEST(OuterOutline, FitQuadsDropsOutlineQuadsWithoutARing) {
   quads.clear();
   fit_quads(groups, ringed_square(0.1f, true), opt, s, quads);
   EXPECT_TRUE(quads.empty());
+}
+
+// At half resolution the refit runs only when asked (outer.at_half_resolution), and its size limit is
+// in half-resolution pixels there.
+TEST(OuterOutline, HalfResolutionRunsTheRefitOnlyWhenAsked) {
+  QuadFitOptions fit;
+  fit.refit_outer_outline = true;
+  fit.outer.max_size_px = 50;
+  fit.min_tag_width = 10;
+  const QuadFitOptions full = quad_fit_options_for(fit, false);
+  EXPECT_TRUE(full.refit_outer_outline);
+  EXPECT_EQ(full.outer.max_size_px, 50);
+  EXPECT_EQ(full.min_tag_width, 10);
+  const QuadFitOptions half = quad_fit_options_for(fit, true);
+  EXPECT_FALSE(half.refit_outer_outline);
+  EXPECT_EQ(half.outer.max_size_px, 25);
+  EXPECT_EQ(half.min_tag_width, 5);
+  fit.outer.at_half_resolution = true;
+  EXPECT_TRUE(quad_fit_options_for(fit, true).refit_outer_outline);
+  fit.min_tag_width = 4;
+  EXPECT_EQ(quad_fit_options_for(fit, true).min_tag_width, 3);
 }
