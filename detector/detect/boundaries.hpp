@@ -8,6 +8,7 @@
 // Coordinates: a point is stored doubled, (x2, y2) = (x0 + x1, y0 + y1) of the two pixels, so it
 // sits at (x2 / 2, y2 / 2) in image pixels (pixel centres at integer coordinates, image.hpp).
 // (gx, gy) is the unit step from the dark pixel toward the light one (each -1, 0 or 1).
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -26,6 +27,19 @@ struct BoundaryPoint {
   std::int32_t x2 = 0, y2 = 0;  // doubled coordinates (see above)
   std::int8_t gx = 0, gy = 0;   // toward the light side
 };
+
+// The bounding box of non-empty `points`, in their doubled coordinates.
+struct DoubledBox {
+  int xmin = 0, xmax = 0, ymin = 0, ymax = 0;
+};
+inline DoubledBox bounding_box(std::span<const BoundaryPoint> points) {
+  DoubledBox b{points[0].x2, points[0].x2, points[0].y2, points[0].y2};
+  for (const auto& p : points) {
+    b.xmin = std::min(b.xmin, p.x2), b.xmax = std::max(b.xmax, p.x2);
+    b.ymin = std::min(b.ymin, p.y2), b.ymax = std::max(b.ymax, p.y2);
+  }
+  return b;
+}
 
 // Groups of points; group g is points[offsets[g] .. offsets[g + 1]), in the order each group's
 // first point was met in a raster scan (deterministic).

@@ -79,15 +79,10 @@ std::vector<HiddenSides> refit_occluded(std::vector<Detection>& dets, const Imag
     OcclusionRefitResult r;
     if (f != families.end()) {
       r = refit_occluded_sides(gray, d.corners, f->payload_width() + 2, opt);
-      const auto H = r.corners && r.sides_refitted > 0 ? tag_homography(*r.corners) : std::nullopt;
-      if (!r.corners || (r.sides_refitted > 0 && !H)) {
+      // Withdrawn when the refit fails or its corners give no homography (d is then still as decoded).
+      if (!r.corners || (r.sides_refitted > 0 && !move_detection_to(d, r.corners))) {
         if (withdrawn) withdrawn->push_back(d);
         continue;
-      }
-      if (H) {
-        d.corners = *r.corners;
-        d.homography = *H;
-        d.center = apply_homography(*H, Eigen::Vector2d::Zero());
       }
     }
     hidden.push_back(r.hidden);

@@ -13,11 +13,7 @@ void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutli
   out.clear();
   one_side_points(group, true, s.side);
   if (s.side.empty()) return;
-  int xmin = s.side[0].x2, xmax = xmin, ymin = s.side[0].y2, ymax = ymin;
-  for (const auto& p : s.side) {
-    xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
-    ymin = std::min(ymin, p.y2), ymax = std::max(ymax, p.y2);
-  }
+  const auto [xmin, xmax, ymin, ymax] = bounding_box(s.side);
   // Doubled coordinates throughout: the ratio test does not care about the scale.
   const float cx = 0.5f * static_cast<float>(xmin + xmax), cy = 0.5f * static_cast<float>(ymin + ymax);
   const int nb = std::clamp(opt.bins, 8, 1024);

@@ -99,17 +99,13 @@ void corner_candidates(QuadFitScratch& s, int max_maxima) {
   }
 }
 
-// The largest distance between corresponding corners of two quads, px.
 // The longer side of the group's bounding box, px.
 double box_side_px(std::span<const BoundaryPoint> group) {
-  int xmin = group[0].x2, xmax = xmin, ymin = group[0].y2, ymax = ymin;
-  for (const auto& p : group) {
-    xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
-    ymin = std::min(ymin, p.y2), ymax = std::max(ymax, p.y2);
-  }
+  const auto [xmin, xmax, ymin, ymax] = bounding_box(group);
   return 0.5 * std::max(xmax - xmin, ymax - ymin);
 }
 
+// The largest distance between corresponding corners of two quads, px.
 double max_corner_distance(const Corners& a, const Corners& b) {
   double d = 0;
   for (std::size_t i = 0; i < 4; ++i) d = std::max(d, (a[i] - b[i]).norm());
@@ -124,11 +120,7 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
   if (n < std::max(opt.min_points, 4) || n > 2 * (2 * img.width + 2 * img.height)) return std::nullopt;
 
   // Bounding box (doubled coordinates), then the cheap size test: the box holds the quad.
-  int xmin = group[0].x2, xmax = xmin, ymin = group[0].y2, ymax = ymin;
-  for (const auto& p : group) {
-    xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
-    ymin = std::min(ymin, p.y2), ymax = std::max(ymax, p.y2);
-  }
+  const auto [xmin, xmax, ymin, ymax] = bounding_box(group);
   const double min_area = 0.95 * opt.min_tag_width * opt.min_tag_width;
   if (0.25 * (xmax - xmin) * (ymax - ymin) < min_area) return std::nullopt;
 
@@ -228,11 +220,7 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
 void one_side_points(std::span<const BoundaryPoint> group, bool outward, std::vector<BoundaryPoint>& out) {
   out.clear();
   if (group.empty()) return;
-  int xmin = group[0].x2, xmax = xmin, ymin = group[0].y2, ymax = ymin;
-  for (const auto& p : group) {
-    xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
-    ymin = std::min(ymin, p.y2), ymax = std::max(ymax, p.y2);
-  }
+  const auto [xmin, xmax, ymin, ymax] = bounding_box(group);
   // In doubled coordinates: (2 p - (min + max)) . g has the sign of (p - centre) . g.
   for (const auto& p : group) {
     const int d = (2 * p.x2 - xmin - xmax) * p.gx + (2 * p.y2 - ymin - ymax) * p.gy;

@@ -106,11 +106,7 @@ bool split_runs(OccludedQuadFitScratch& s, double tol, int max_vertices) {
 std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, const ImageF& img, double min_angle_deg, double min_area,
                                          const OccludedQuadFitOptions& opt, OccludedQuadFitScratch& s) {
   if (group.size() < static_cast<std::size_t>(std::max(16, opt.min_group_points))) return std::nullopt;
-  int xmin = group[0].x2, xmax = xmin, ymin = group[0].y2, ymax = ymin;
-  for (const auto& p : group) {
-    xmin = std::min(xmin, p.x2), xmax = std::max(xmax, p.x2);
-    ymin = std::min(ymin, p.y2), ymax = std::max(ymax, p.y2);
-  }
+  const auto [xmin, xmax, ymin, ymax] = bounding_box(group);
   if (0.25 * (xmax - xmin) * (ymax - ymin) < min_area) return std::nullopt;
   const float cx = 0.25f * static_cast<float>(xmin + xmax) + 0.0256f, cy = 0.25f * static_cast<float>(ymin + ymax) - 0.0143f;
   // Only the points whose dark side faces the centre: the square's own outline. When the occluder

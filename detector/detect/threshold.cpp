@@ -139,19 +139,13 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
     float* tmid = s.tile_mid.data();
     std::uint8_t* tflat = s.tile_flat.data();
     const float min_contrast = opt.min_contrast;
-    if (opt.low_contrast < min_contrast) {  // the relative floor: see ThresholdOptions
-      const float low = opt.low_contrast, weber = opt.weber_ratio;
-      for (int tx = 0; tx < tw; ++tx) {
-        const float mn = tmin[tx], mx = tmax[tx], d = mx - mn;
-        tflat[tx] = d < min_contrast && (d < low || d < weber * mx) ? 0xFF : 0;
-        tmid[tx] = mn + 0.5f * d;
-      }
-    } else {
-      for (int tx = 0; tx < tw; ++tx) {
-        const float mn = tmin[tx], mx = tmax[tx];
-        tflat[tx] = mx - mn < min_contrast ? 0xFF : 0;
-        tmid[tx] = mn + 0.5f * (mx - mn);
-      }
+    // Flat below min_contrast, unless the relative floor (ThresholdOptions) classes it; with
+    // low_contrast >= min_contrast (its default) that floor never applies.
+    const float low = opt.low_contrast, weber = opt.weber_ratio;
+    for (int tx = 0; tx < tw; ++tx) {
+      const float mn = tmin[tx], mx = tmax[tx], d = mx - mn;
+      tflat[tx] = d < min_contrast && (d < low || d < weber * mx) ? 0xFF : 0;
+      tmid[tx] = mn + 0.5f * d;
     }
     switch (t) {  // columns past the image's last one (a partial last tile) are filled but never read
       case 2: spread<2>(tmid, tflat, tw, t, mid, flat); break;

@@ -83,15 +83,24 @@ TEST(OuterOutline, FitQuadsAddsTheSquareOfAGroupWithInnerEdges) {
   EXPECT_LT(error(quads[1].corners), 0.6);
 }
 
-// Inner edges far inside (a payload cell's outline, off the centre): the group's own fit fails (no
-// line fits a run that holds both), and the outline is then the quad.
-TEST(OuterOutline, FitQuadsFallsBackOnTheOutlineWhenTheGroupFitsNoQuad) {
+namespace {
+// The group of the tests below: a 20 px square (30..50) whose
+// own fit fails, its outline's fit succeeds.
+BoundaryGroups square_with_inner_cell() {
   BoundaryGroups groups;
   outline(groups.points, 80, 20, 1);
   std::vector<BoundaryPoint> cell;
   outline(cell, 0, 10, 1);
   for (auto p : cell) groups.points.push_back({p.x2 + 74, p.y2 + 74, p.gx, p.gy});
   groups.offsets = {0, static_cast<std::uint32_t>(groups.points.size())};
+  return groups;
+}
+}  // namespace
+
+// Inner edges far inside (a payload cell's outline, off the centre): the group's own fit fails (no
+// line fits a run that holds both), and the outline is then the quad.
+TEST(OuterOutline, FitQuadsFallsBackOnTheOutlineWhenTheGroupFitsNoQuad) {
+  const BoundaryGroups groups = square_with_inner_cell();
   const ImageF img(80, 80, 0.5f);
   QuadFitScratch s;
   QuadFitOptions opt;
@@ -126,17 +135,6 @@ TEST(OuterOutline, ACleanSquareGivesOneQuad) {
 }
 
 namespace {
-// The group of FitQuadsFallsBackOnTheOutlineWhenTheGroupFitsNoQuad: a 20 px square (30..50) whose
-// own fit fails, its outline's fit succeeds.
-BoundaryGroups square_with_inner_cell() {
-  BoundaryGroups groups;
-  outline(groups.points, 80, 20, 1);
-  std::vector<BoundaryPoint> cell;
-  outline(cell, 0, 10, 1);
-  for (auto p : cell) groups.points.push_back({p.x2 + 74, p.y2 + 74, p.gx, p.gy});
-  groups.offsets = {0, static_cast<std::uint32_t>(groups.points.size())};
-  return groups;
-}
 // An 80 x 80 image: light ground (0.3 + step), the square 30..50 dark (0.3); blank: no square.
 ImageF ringed_square(float step, bool blank = false) {
   ImageF img(80, 80, 0.3f + step);
