@@ -62,16 +62,23 @@ void minmax3_rows(const float* in_min, const float* in_max, float* out_min, floa
   }
 }
 
+// out[x] = op(a[x], b[x], c[x]) over a tile row: one output and three inputs, so the compiler's
+// run-time overlap check stays small enough to vectorise.
+template <class Op>
+void combine3(const float* a, const float* b, const float* c, float* out, std::size_t n, Op op) {
+  for (std::size_t x = 0; x < n; ++x) out[x] = op(op(a[x], b[x]), c[x]);
+}
+
 // The same along the columns: whole tile rows at a time (contiguous, vectorised).
 void minmax3_cols(const float* in_min, const float* in_max, float* out_min, float* out_max, int tw, int th) {
   const std::size_t n = static_cast<std::size_t>(tw);
+  const auto mn = [](float a, float b) { return std::min(a, b); };
+  const auto mx = [](float a, float b) { return std::max(a, b); };
   for (int ty = 0; ty < th; ++ty) {
     const std::size_t o = static_cast<std::size_t>(ty) * n;
     const std::size_t up = ty > 0 ? o - n : o, down = ty + 1 < th ? o + n : o;  // clamped: the tile itself
-    for (std::size_t x = 0; x < n; ++x) {
-      out_min[o + x] = std::min(std::min(in_min[up + x], in_min[o + x]), in_min[down + x]);
-      out_max[o + x] = std::max(std::max(in_max[up + x], in_max[o + x]), in_max[down + x]);
-    }
+    combine3(in_min + up, in_min + o, in_min + down, out_min + o, n, mn);
+    combine3(in_max + up, in_max + o, in_max + down, out_max + o, n, mx);
   }
 }
 
@@ -144,7 +151,8 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
     const float low = opt.low_contrast, weber = opt.weber_ratio;
     for (int tx = 0; tx < tw; ++tx) {
       const float mn = tmin[tx], mx = tmax[tx], d = mx - mn;
-      tflat[tx] = d < min_contrast && (d < low || d < weber * mx) ? 0xFF : 0;
+      // Bitwise, not short-circuit: no branch, so the loop vectorises (the same value).
+      tflat[tx] = (d < min_contrast) & ((d < low) | (d < weber * mx)) ? 0xFF : 0;
       tmid[tx] = mn + 0.5f * d;
     }
     switch (t) {  // columns past the image's last one (a partial last tile) are filled but never read
