@@ -36,6 +36,7 @@
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
+#include "second_look.hpp"
 #include "segmentation.hpp"
 #include "threshold_quads.hpp"
 
@@ -124,6 +125,10 @@ struct DetectorOptions {
   // when a side cannot be fixed (occlusion_refit.hpp). Default profile on; paper(): off.
   bool occlusion_refit = true;
   OcclusionRefitOptions occlusion;
+  // Beyond the paper: small threshold quads that did not decode are looked at again, their region
+  // classed by one (Otsu) threshold and fitted anew (second_look.hpp; quad_finder kThreshold only).
+  // Off in both profiles (paper(): off).
+  SecondLookOptions second_look;
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
   double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
   bool half_resolution = false;  // find quads at half resolution (the paper's "4x faster" option; both finders)
