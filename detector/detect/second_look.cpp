@@ -12,6 +12,19 @@
 
 namespace tagbench {
 
+namespace {
+
+bool inside_quad(const Corners& q, const Eigen::Vector2d& p) {  // convex quad, either winding
+  int pos = 0, neg = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d e = q[(i + 1) % 4] - q[i], r = p - q[i];
+    (e.x() * r.y() - e.y() * r.x() >= 0 ? pos : neg)++;
+  }
+  return pos == 4 || neg == 4;
+}
+
+}  // namespace
+
 OtsuSplit otsu_split(std::span<const float> values) {
   std::array<double, 256> hist{};
   for (const float v : values) hist[static_cast<std::size_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f)] += 1;
@@ -45,6 +58,7 @@ std::vector<Quad> second_look_quads(const ImageF& img, std::span<const Quad> qua
   QuadFitScratch fscratch;
   EdgeRefineScratch rscratch;
   std::vector<Quad> found;
+  std::vector<float> inside;
   for (std::size_t i = 0; i < quads.size() && i < look.size(); ++i) {
     if (!look[i]) continue;
     const Corners& c = quads[i].corners;
@@ -60,7 +74,13 @@ std::vector<Quad> second_look_quads(const ImageF& img, std::span<const Quad> qua
     roi = ImageF(x1 - x0 + 1, y1 - y0 + 1);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) roi.at(x - x0, y - y0) = img.at(x, y);
-    const OtsuSplit split = otsu_split(roi.data);
+    // Otsu over the pixels inside the quad: the ink and its ring or card, less of the ground around.
+    inside.clear();
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        if (!opt.inside_only || inside_quad(c, Eigen::Vector2d(x, y))) inside.push_back(img.at(x, y));
+    if (inside.size() < 16) continue;
+    const OtsuSplit split = otsu_split(inside);
     if (!(split.light_mean - split.dark_mean >= opt.min_class_gap)) continue;
     ternary.width = roi.width, ternary.height = roi.height;
     ternary.data.resize(roi.data.size());

@@ -26,7 +26,10 @@ struct SecondLookOptions {
   double margin_px = 3;       // the region: the quad's bounding box grown by this on every side, >= 0
   // Otsu's two classes' means must differ by at least this ([0, 1] intensities): flat regions are skipped.
   double min_class_gap = 6.0 / 255.0;
-  double min_corner_change_px = 1.0;  // a new quad within this of the old one at every corner is dropped
+  double min_corner_change_px = 1.0;
+  // Otsu's histogram from the pixels inside the quad only (else the whole region): a tag's card on a
+  // darker ground otherwise puts the ground in one class and card and ink in the other.
+  bool inside_only = true;  // a new quad within this of the old one at every corner is dropped
 };
 
 // New candidate quads for `quads` (full-resolution corners) whose entry in `look` is true. `fit` and

@@ -80,3 +80,22 @@ TEST(SecondLook, DropsAQuadThatMatchesTheOldOne) {
   const auto quads = second_look_quads(img, std::span(&on_square, 1), {true}, tq, SecondLookOptions{});
   for (const Quad& q : quads) EXPECT_GT(worst_corner_error(q.corners, on_square.corners), 1.0);
 }
+
+// A light card on a much darker ground: Otsu over the whole region splits ground from card and ink
+// together, over the inside of the card's quad it splits the ink from the card (inside_only).
+TEST(SecondLook, InsideOnlySplitsInkFromCardOnADarkGround) {
+  const ImageF img = card_scene(0.10f, 0.60f, 0.45f, 20, 34, 27, 20);
+  const Quad card = square_quad(19.5, 53.5);
+  const Corners want = square_quad(26.5, 46.5).corners;
+  ThresholdQuadOptions tq;
+  const auto best_error = [&](bool inside_only) {
+    SecondLookOptions opt;
+    opt.inside_only = inside_only;
+    double best = HUGE_VAL;
+    for (const Quad& q : second_look_quads(img, std::span(&card, 1), {true}, tq, opt))
+      best = std::min(best, worst_corner_error(q.corners, want));
+    return best;
+  };
+  EXPECT_LT(best_error(true), 0.3);
+  EXPECT_GT(best_error(false), 2.0);
+}
