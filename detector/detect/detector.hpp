@@ -74,6 +74,14 @@ inline ThresholdQuadOptions default_profile_threshold_quads() {
   return q;
 }
 
+// The second look's options in the default profile (DetectorOptions::second_look).
+inline SecondLookOptions default_profile_second_look() {
+  SecondLookOptions o;
+  o.enabled = true;
+  o.max_size_px = 64;
+  return o;
+}
+
 // The bits a family of minimum Hamming distance h corrects: min(max_hamming, (h - 1) / 3) when
 // hamming_by_family (DetectorOptions::hamming_by_family), else max_hamming.
 inline int bits_corrected_for(int min_hamming, int max_hamming, bool hamming_by_family) {
@@ -125,10 +133,12 @@ struct DetectorOptions {
   // when a side cannot be fixed (occlusion_refit.hpp). Default profile on; paper(): off.
   bool occlusion_refit = true;
   OcclusionRefitOptions occlusion;
-  // Beyond the paper: small threshold quads that did not decode are looked at again, their region
-  // classed by one (Otsu) threshold and fitted anew (second_look.hpp; quad_finder kThreshold only).
-  // Off in both profiles (paper(): off).
-  SecondLookOptions second_look;
+  // Beyond the paper: threshold quads up to 64 px that did not decode are looked at again, their
+  // region classed by one (Otsu) threshold from the pixels inside the quad and fitted anew
+  // (second_look.hpp; quad_finder kThreshold only). Default profile on; paper(): off. Realistic set
+  // (200 frames, seed 1): 20-24 px tags 134 -> 146 of 188, all sizes 925 -> 970 of 1384, no wrong id;
+  // time / libapriltag d1 on 300 corpus images 0.64 -> 0.69 (issue 17, session 8).
+  SecondLookOptions second_look = default_profile_second_look();
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
   double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
   bool half_resolution = false;  // find quads at half resolution (the paper's "4x faster" option; both finders)

@@ -151,6 +151,7 @@ DetectorOptions DetectorOptions::paper() {
   o.bent.enabled = false;
   o.photometric_guard.enabled = false;
   o.pose_choice.enabled = false;
+  o.second_look.enabled = false;
   return o;
 }
 

@@ -21,8 +21,9 @@
 namespace tagbench {
 
 struct SecondLookOptions {
-  bool enabled = false;       // off in both profiles until measured (DetectorOptions::second_look)
+  bool enabled = false;       // off here; the default profile turns it on (DetectorOptions::second_look)
   double max_size_px = 48;    // only quads whose bounding box's longer side is at most this, > 0
+                              // (default profile: 64; 48 found 4 fewer of 1384 realistic tags)
   double margin_px = 3;       // the region: the quad's bounding box grown by this on every side, >= 0
   // Otsu's two classes' means must differ by at least this ([0, 1] intensities): flat regions are skipped.
   double min_class_gap = 6.0 / 255.0;
