@@ -3,6 +3,7 @@
 #include <cmath>
 #include <vector>
 
+#include "detect/detector.hpp"
 #include "detect/second_look.hpp"
 
 using namespace tagbench;
@@ -98,4 +99,18 @@ TEST(SecondLook, InsideOnlySplitsInkFromCardOnADarkGround) {
   };
   EXPECT_LT(best_error(true), 0.3);
   EXPECT_GT(best_error(false), 2.0);
+}
+
+// The options' domains (DetectorOptions::validate names the field).
+TEST(SecondLook, ValidateRefusesOptionsOutOfRange) {
+  DetectorOptions o;
+  o.second_look.max_size_px = 0;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+  o = DetectorOptions{};
+  o.second_look.min_class_gap = 1.5;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+  o = DetectorOptions{};
+  o.second_look.margin_px = -1;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+  DetectorOptions{}.validate();
 }
