@@ -152,7 +152,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   // 6. Payloads, decoded against every family; one detection per tag; the margin filter.
   // The bent-tag second chance (bent_decode.hpp) needs every quad's outcome, traced or not.
   std::vector<QuadOutcome> own_outcomes;
-  const bool second_look = opt_.second_look.enabled && opt_.quad_finder == QuadFinderKind::kThreshold;
+  const bool second_look = opt_.second_look.enabled && opt_.quad_finder == QuadFinderKind::kThreshold &&
+                           (!opt_.half_resolution || opt_.second_look.at_half_resolution);
   std::vector<QuadOutcome>* outcomes =
       trace ? &trace->quad_outcomes : (opt_.bent.enabled || second_look) ? &own_outcomes : nullptr;
   const std::size_t first_outcome = outcomes ? outcomes->size() : 0;

@@ -135,7 +135,8 @@ struct DetectorOptions {
   OcclusionRefitOptions occlusion;
   // Beyond the paper: threshold quads up to 64 px that did not decode are looked at again, their
   // region classed by one (Otsu) threshold from the pixels inside the quad and fitted anew
-  // (second_look.hpp; quad_finder kThreshold only). Default profile on; paper(): off. Realistic set
+  // (second_look.hpp; quad_finder kThreshold only; not at half resolution, second_look.at_half_resolution).
+  // Default profile on; paper(): off. Realistic set
   // (200 frames, seed 1): 20-24 px tags 134 -> 146 of 188, all sizes 925 -> 970 of 1384, no wrong id;
   // time / libapriltag d1 on 300 corpus images 0.64 -> 0.69 (issue 17, session 8).
   SecondLookOptions second_look = default_profile_second_look();

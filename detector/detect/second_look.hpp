@@ -30,7 +30,12 @@ struct SecondLookOptions {
   double min_corner_change_px = 1.0;
   // Otsu's histogram from the pixels inside the quad only (else the whole region): a tag's card on a
   // darker ground otherwise puts the ground in one class and card and ink in the other.
-  bool inside_only = true;  // a new quad within this of the old one at every corner is dropped
+  bool inside_only = true;
+  // Whether it also runs when quads are found at half resolution (DetectorOptions::half_resolution).
+  // Off: there it found 655 -> 758 of 1384 realistic tags (20-24 px 73 -> 102 of 188) but took the
+  // half-resolution profile from 0.87 to 1.23 of libapriltag d2's time on the realistic set and 0.70
+  // -> 0.90 on the corpus (target <= 1.0; issue 17, session 8).
+  bool at_half_resolution = false;  // a new quad within this of the old one at every corner is dropped
 };
 
 // New candidate quads for `quads` (full-resolution corners) whose entry in `look` is true. `fit` and
