@@ -144,7 +144,10 @@ std::string ceiling_summary_csv(const RealisticResult& r, const std::vector<Ceil
   for (const auto& row : rows) {
     o += pre + row.bin + "," + row.band + "," + std::to_string(row.tags) + "," + std::to_string(row.area) + "," +
          std::to_string(row.point) + "," + std::to_string(row.either);
-    for (const int n : row.detected) o += "," + std::to_string(n);
+    for (const int n : row.detected) {
+      o += ',';
+      o += std::to_string(n);
+    }
     o += "\n";
   }
   return o;
