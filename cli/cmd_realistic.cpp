@@ -10,6 +10,8 @@
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
 #include "cli/sweep_args.hpp"
+#include "codes/families.hpp"
+#include "realistic/realistic_ceiling.hpp"
 #include "realistic/realistic_run.hpp"
 #include "tools/atomic_file.hpp"
 #include "tools/progress.hpp"
@@ -21,7 +23,7 @@ namespace tagbench::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: tagbench realistic [--frames N] [--seed S] [--family F] [--detectors LIST] [--out DIR]
-           [--export-frames DIR] [--ideal] [--sizes|--blur|--motion-blur|--jpeg-quality|--full-well|--ink|--face-light LO,HI]
+           [--export-frames DIR] [--ceiling] [--ideal] [--sizes|--blur|--motion-blur|--jpeg-quality|--full-well|--ink|--face-light LO,HI]
 
 The realistic image set (issue 17): frames made to behave like JPEG photographs of small tags, and
 every selected detector on every frame, one thread, scored per tag against the frame's ground truth.
@@ -46,6 +48,9 @@ Options:
                       .png with --ideal) and frame-NNNNN.json (truth: corners TL,TR,BR,BL of the black
                       square, pixel centres at integers, size, tilt, pose, tag size; the camera and
                       what it did), and set.json (the settings)
+  --ceiling           also read every tag through its TRUE corners with the default profile's decoding
+                      (area and point reader): what the payload reader could decode if the quads were
+                      perfect, per size bin and contrast band (grey levels, white ring - black ring)
   --ideal             no defocus, motion blur, noise, gamma or JPEG (the geometry alone)
 Ranges (LO,HI; a value per frame or tag is drawn uniformly in it; defaults are the calibrated set):
   --sizes LO,HI       black square px, sqrt of the area (default 12,40)
@@ -66,6 +71,9 @@ Writes into DIR:
                          detector: tags, detected, rate with its Wilson 95 % interval, wrong ids,
                          false detections, median and 90th percentile corner RMS
   realistic.json         the settings, how frames are made, the measures, the summary
+  realistic_ceiling.csv, realistic_ceiling_summary.csv   (--ceiling) a row per tag: its contrast, whether
+                         the area / point reader decodes it from the truth corners (and bits wrong), each
+                         detector's result; per size bin and contrast band: tags, ceiling, detected
 Plot: /usr/bin/python3 scripts/plot_realistic.py DIR.
 )";
 
@@ -79,7 +87,7 @@ std::string frame_name(int index, const char* ext) {
 
 int cmd_realistic(const Words& w) {
   if (wants_help(w, kHelp)) return 0;
-  const Args a(w, {{"frames"}, {"seed"}, {"family"}, {"detectors"}, {"out"}, {"export-frames"}, {"ideal", false},
+  const Args a(w, {{"frames"}, {"seed"}, {"family"}, {"detectors"}, {"out"}, {"export-frames"}, {"ceiling", false}, {"ideal", false},
                    {"sizes"}, {"blur"}, {"motion-blur"}, {"jpeg-quality"}, {"full-well"}, {"ink"}, {"face-light"}, {"sharpen"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   bench::RealisticRunSettings s;
@@ -129,7 +137,16 @@ int cmd_realistic(const Words& w) {
     std::snprintf(count, sizeof count, "%zu/%zu frames", done, total);
     bar->update(static_cast<double>(done) / static_cast<double>(total), count, detail, -1);
   };
+  const bool ceiling = a.flag("ceiling");
+  bench::CeilingResult ceiling_result;
+  const DetectorOptions default_profile;
+  const TagFamily family = load_family(s.set.family);
   const auto on_frame = [&](const bench::RealisticFrame& f) {
+    if (ceiling) {
+      const ImageF gray = to_float_image(ImageU8View{f.image.cols, f.image.rows, static_cast<int>(f.image.step), f.image.data});
+      auto& readings = ceiling_result.by_frame.emplace_back();
+      for (const auto& t : f.tags) readings.push_back(bench::read_at_truth(gray, t, family, default_profile));
+    }
     if (!export_dir) return;
     std::string pixels;
     if (!f.jpeg.empty()) {
@@ -154,6 +171,11 @@ int cmd_realistic(const Words& w) {
         {out / "realistic_false.csv", bench::realistic_false_csv(r)},
         {out / "realistic_summary.csv", bench::realistic_summary_csv(r, summary)},
         {out / "realistic.json", bench::realistic_sidecar_json(r, summary)}};
+    if (ceiling) {
+      files.emplace_back(out / "realistic_ceiling.csv", bench::ceiling_rows_csv(r, ceiling_result));
+      files.emplace_back(out / "realistic_ceiling_summary.csv",
+                         bench::ceiling_summary_csv(r, bench::summarize_ceiling(r, ceiling_result)));
+    }
     write_files_atomic(files);
     if (export_dir) write_file_atomic(*export_dir / "set.json", bench::realistic_sidecar_json(r, summary));
   } catch (...) {

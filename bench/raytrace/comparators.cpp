@@ -130,6 +130,11 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "ring_share") o.threshold_quads.fit.outer.ring_min_share = x;
     else if (k == "ring_step") o.threshold_quads.fit.outer.ring_min_step = x;
     else if (k == "ring_ratio") o.threshold_quads.fit.outer.min_side_ratio = x;
+    else if (k == "look") o.second_look.enabled = x != 0;
+    else if (k == "look_max") o.second_look.max_size_px = x;
+    else if (k == "look_half") o.second_look.at_half_resolution = x != 0;
+    else if (k == "look_inside") o.second_look.inside_only = x != 0;
+    else if (k == "look_gap") o.second_look.min_class_gap = x;
     else if (k == "outer_half") o.threshold_quads.fit.outer.at_half_resolution = x != 0;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }

@@ -107,3 +107,26 @@ TEST(CliRealistic, HelpNamesTheFiles) {
   for (const char* w : {"realistic.csv", "realistic_summary.csv", "realistic.json", "--export-frames", "JPEG"})
     EXPECT_NE(r.out.find(w), std::string::npos) << w;
 }
+
+// --ceiling: a row per tag (its contrast, the truth corners' readings, each detector's result) and a
+// summary per size bin and contrast band; without it neither file.
+TEST(CliRealistic, CeilingWritesARowPerTagAndTheSummary) {
+  const fs::path out = scratch() / "ceiling", plain = scratch() / "no_ceiling";
+  ASSERT_EQ(run("--frames 1 --seed 5 --detectors tagbench --ceiling --out " + out.string()).code, 0);
+  const auto rows = lines(slurp(out / "realistic_ceiling.csv"));
+  const auto tags = lines(slurp(out / "realistic.csv"));
+  ASSERT_GE(rows.size(), 5u);
+  EXPECT_EQ(rows.size(), tags.size());  // one detector: a row per tag in both
+  EXPECT_EQ(rows[0],
+            "set,seed,family,frame,tag,id,black_square_px,size_bin,contrast_levels,contrast_band,area_decoded,"
+            "area_bits_wrong,point_decoded,point_bits_wrong,detected_tagbench,loss_tagbench");
+  const auto summary = lines(slurp(out / "realistic_ceiling_summary.csv"));
+  ASSERT_GE(summary.size(), 3u);
+  EXPECT_EQ(summary[0], "set,seed,family,frames,size_bin,contrast_band,tags,ceiling_area,ceiling_point,"
+                        "ceiling_either,detected_tagbench");
+  EXPECT_EQ(summary.back().rfind("realistic,5,36h11,1,all,all," + std::to_string(rows.size() - 1) + ",", 0), 0u)
+      << summary.back();
+  ASSERT_EQ(run("--frames 1 --seed 5 --detectors tagbench --out " + plain.string()).code, 0);
+  EXPECT_FALSE(fs::exists(plain / "realistic_ceiling.csv"));
+  EXPECT_FALSE(fs::exists(plain / "realistic_ceiling_summary.csv"));
+}

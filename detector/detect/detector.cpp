@@ -152,7 +152,10 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   // 6. Payloads, decoded against every family; one detection per tag; the margin filter.
   // The bent-tag second chance (bent_decode.hpp) needs every quad's outcome, traced or not.
   std::vector<QuadOutcome> own_outcomes;
-  std::vector<QuadOutcome>* outcomes = trace ? &trace->quad_outcomes : opt_.bent.enabled ? &own_outcomes : nullptr;
+  const bool second_look = opt_.second_look.enabled && opt_.quad_finder == QuadFinderKind::kThreshold &&
+                           (!opt_.half_resolution || opt_.second_look.at_half_resolution);
+  std::vector<QuadOutcome>* outcomes =
+      trace ? &trace->quad_outcomes : (opt_.bent.enabled || second_look) ? &own_outcomes : nullptr;
   const std::size_t first_outcome = outcomes ? outcomes->size() : 0;
   std::vector<Detection> decoded = decode_quads(*found.decode_image, found.quads, families_, opt_.max_hamming,
                                                 opt_.payload,
@@ -164,6 +167,17 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                   std::span(*outcomes).subspan(first_outcome), families_, opt_.max_hamming,
                                   opt_.hamming_by_family, opt_.payload_area, opt_.payload.min_contrast, opt_.bent);
     decoded.insert(decoded.end(), std::make_move_iterator(bent.begin()), std::make_move_iterator(bent.end()));
+  }
+  if (second_look) {  // second_look.hpp: the quads that did not decode, looked at again
+    std::vector<bool> look(found.quads.size());
+    for (std::size_t i = 0; i < look.size(); ++i)
+      look[i] = (*outcomes)[first_outcome + i].fate != QuadOutcome::Fate::kDecoded;
+    const std::vector<Quad> again = second_look_quads(gray, found.quads, look, opt_.threshold_quads, opt_.second_look);
+    auto more = decode_quads(*found.decode_image, again, families_, opt_.max_hamming, opt_.payload,
+                             opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area : nullptr,
+                             trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family);
+    if (trace) trace->quads.insert(trace->quads.end(), again.begin(), again.end());
+    decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   drop_below_margin(out, opt_.min_decision_margin);

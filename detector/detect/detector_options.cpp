@@ -151,6 +151,7 @@ DetectorOptions DetectorOptions::paper() {
   o.bent.enabled = false;
   o.photometric_guard.enabled = false;
   o.pose_choice.enabled = false;
+  o.second_look.enabled = false;
   return o;
 }
 
@@ -217,6 +218,10 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   validate_threshold_quads(threshold_quads);
   validate_photometric(photometric);
   validate_occlusion_refit(occlusion);
+  finite_above("second_look.max_size_px", second_look.max_size_px, 0);
+  finite_at_least("second_look.margin_px", second_look.margin_px, 0);
+  within("second_look.min_class_gap", second_look.min_class_gap, 0, 1);
+  finite_at_least("second_look.min_corner_change_px", second_look.min_corner_change_px, 0);
   finite_at_least("photometric_guard.max_kink_px", photometric_guard.max_kink_px, 0);
   finite_at_least("photometric_guard.max_blur_px", photometric_guard.max_blur_px, 0);
   finite_at_least("photometric_guard.min_kink_significance", photometric_guard.min_kink_significance, 0);

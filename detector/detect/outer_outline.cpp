@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "detect/payload_decode.hpp"
 #include "detect/quad_fit.hpp"
 
 namespace tagbench {
@@ -45,17 +46,10 @@ void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutli
 
 namespace {
 
-// Bilinear sample, coordinates clamped to the image (pixel centres at integers).
-float sample(const ImageF& img, double x, double y) {
-  x = std::clamp(x, 0.0, static_cast<double>(img.width - 1));
-  y = std::clamp(y, 0.0, static_cast<double>(img.height - 1));
-  const int x0 = std::min(static_cast<int>(x), img.width - 2 < 0 ? 0 : img.width - 2);
-  const int y0 = std::min(static_cast<int>(y), img.height - 2 < 0 ? 0 : img.height - 2);
-  const int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
-  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
-  const float top = img.at(x0, y0) + fx * (img.at(x1, y0) - img.at(x0, y0));
-  const float bottom = img.at(x0, y1) + fx * (img.at(x1, y1) - img.at(x0, y1));
-  return top + fy * (bottom - top);
+// Bilinear sample (payload_decode.hpp's), the point clamped into the image first.
+float sample(const ImageF& img, const Eigen::Vector2d& p) {
+  return sample_bilinear_inside(img, {std::clamp(p.x(), 0.0, static_cast<double>(img.width - 1)),
+                                      std::clamp(p.y(), 0.0, static_cast<double>(img.height - 1))});
 }
 
 }  // namespace
@@ -82,7 +76,7 @@ bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOpt
         }
       };
       const Eigen::Vector2d pi = uv(kIn), po = uv(kOut);
-      const float step = sample(img, po.x(), po.y()) - sample(img, pi.x(), pi.y());
+      const float step = sample(img, po) - sample(img, pi);
       up += step > 0;
       sum += step;
     }

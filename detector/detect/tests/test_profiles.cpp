@@ -63,6 +63,8 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   EXPECT_EQ(d.max_hamming, 3);  // capped per family at (h - 1) / 3
   EXPECT_TRUE(d.hamming_by_family);
   EXPECT_EQ(p.seg_sigma, 0.8);
+  EXPECT_FALSE(p.second_look.enabled);
+  EXPECT_TRUE(d.second_look.enabled);
   p.validate();
   d.validate();
 }
