@@ -24,6 +24,19 @@ def _yes(ok):
     return "**met**" if ok else "not met"
 
 
+def _ceiling(d, size_bin):
+    """The payload readers' ceiling in one size bin (`realistic --ceiling`: each tag read through its true
+    corners), as text for the 95 % row, or "" when the run had no --ceiling."""
+    path = os.path.join(d, "realistic_ceiling_summary.csv")
+    if not os.path.exists(path):
+        return ""
+    row = next((r for r in rows(path) if r["size_bin"] == size_bin and r["contrast_band"] == "all"), None)
+    if row is None:
+        return ""
+    either, tags = int(row["ceiling_either"]), int(row["tags"])
+    return f"; read from the true corners at most {either}/{tags} = {100 * either / tags:.1f} %"
+
+
 def _realistic(d):
     s = rows(os.path.join(d, "realistic_summary.csv"))
     ours = {r["size_bin"]: r for r in _by(s, OURS)}
@@ -39,7 +52,7 @@ def _realistic(d):
     if b20:
         r = _f(ours[b20]["detection_rate"])
         out.append([f"Realistic set: >= 95 % at 20 px ({b20} px bin)", f"{100 * r:.0f} % (libapriltag d1 "
-                    f'{100 * _f(d1[b20]["detection_rate"]):.0f} %)', _yes(r >= 0.95)])
+                    f'{100 * _f(d1[b20]["detection_rate"]):.0f} %)' + _ceiling(d, b20), _yes(r >= 0.95)])
     return out
 
 

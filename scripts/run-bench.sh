@@ -65,7 +65,7 @@ done
 "$PY" scripts/plot_sixdof.py results
 
 echo "bench: the realistic image set (small tags, JPEG photographs' camera; issue 17)" >&2
-"$BIN" realistic --frames 200 --out results
+"$BIN" realistic --frames 200 --ceiling --out results
 "$PY" scripts/plot_realistic.py results
 # Where our detectors lost the tags they missed (issue 17, section 2): per distance step and size bin.
 "$PY" scripts/loss_breakdown.py results/fig10_distance_summary.csv --out results/fig10_distance_loss.csv
