@@ -73,7 +73,7 @@ def main():
                          alt_err_deg=angle_deg(alt["R"], f["R"]) if alt else float("nan"),
                          rms_px=d["pose"]["reprojection_rms_px"],
                          alt_rms_px=alt["reprojection_rms_px"] if alt else float("nan"),
-                         ambiguous=d["pose"].get("ambiguous", ""),
+                         ambiguous=d.get("pose_ambiguous", False),
                          margin=d.get("decision_margin", float("nan"))))
     n = len(rows)
     bad = [r for r in rows if r["err_deg"] > a.bad]
