@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 #include "detect/detector.hpp"
 #include "detect/payload_decode.hpp"
@@ -11,33 +12,37 @@
 namespace tagbench {
 namespace {
 
-// The printed pattern (1 = white; white past the white ring) at tag point (u1, u2) blurred by a Gaussian
-// of `sigma` tag units: per cell, the product of the two axes' Gaussian integrals over it; the cells
-// within 3 sigma take part. sigma 0: the sharp pattern.
-double pattern_value(const TagCells& cells, double cell, double u1, double u2, double sigma) {
-  const auto white = [&](int cy, int cx) {
-    return cy < 0 || cx < 0 || cy >= cells.n || cx >= cells.n || cells.at(cy, cx);
-  };
-  // grid column of u: the black square's left edge (u = -1) is the start of column 1
-  const double gx = (u1 + 1) / cell + 1, gy = (u2 + 1) / cell + 1;
-  const int ix = static_cast<int>(std::floor(gx)), iy = static_cast<int>(std::floor(gy));
-  if (!(sigma > 0)) return white(iy, ix) ? 1.0 : 0.0;
-  const double s = sigma / cell;  // in cells
-  const int reach = std::min(3, static_cast<int>(std::ceil(3 * s)));
-  std::array<double, 7> wx{}, wy{};
-  const auto phi = [&](double z) { return 0.5 * std::erfc(-z / (s * M_SQRT2)); };
-  for (int k = -reach; k <= reach; ++k) {
-    wx[static_cast<std::size_t>(k + 3)] = phi(ix + k + 1 - gx) - phi(ix + k - gx);
-    wy[static_cast<std::size_t>(k + 3)] = phi(iy + k + 1 - gy) - phi(iy + k - gy);
+// The printed pattern (1 = white; white past the white ring) blurred by a Gaussian of `sigma` cells at
+// the sample points of correlate() (samples_per_cell per cell and axis, at the sub-cells' centres),
+// in correlate()'s order. Per cell, the product of the two axes' Gaussian integrals over the cells
+// within 3 sigma; as the sub-cell offsets repeat in every cell, the integrals are tabulated once per
+// offset (a few dozen erfc instead of tens of thousands).
+std::vector<double> blurred_pattern(const TagCells& cells, int spc, double sigma) {
+  const int reach = std::clamp(static_cast<int>(std::ceil(3 * sigma)), 1, 3);
+  const int width = 2 * reach + 1;
+  std::vector<double> w(static_cast<std::size_t>(spc * width));  // [sub-cell offset][neighbour]
+  for (int i = 0; i < spc; ++i) {
+    const double f = (i + 0.5) / spc;  // position within its cell, cells
+    const auto phi = [&](double z) { return 0.5 * std::erfc(-z / (sigma * M_SQRT2)); };
+    for (int k = -reach; k <= reach; ++k) w[static_cast<std::size_t>(i * width + k + reach)] = phi(k + 1 - f) - phi(k - f);
   }
-  double v = 0, w = 0;
-  for (int j = -reach; j <= reach; ++j)
-    for (int i = -reach; i <= reach; ++i) {
-      const double ww = wx[static_cast<std::size_t>(i + 3)] * wy[static_cast<std::size_t>(j + 3)];
-      w += ww;
-      if (white(iy + j, ix + i)) v += ww;
-    }
-  return w > 0 ? v / w : 0.0;
+  const auto white = [&](int cy, int cx) { return cy < 0 || cx < 0 || cy >= cells.n || cx >= cells.n || cells.at(cy, cx); };
+  std::vector<double> out;
+  out.reserve(static_cast<std::size_t>(cells.n * cells.n * spc * spc));
+  for (int cy = 0; cy < cells.n; ++cy)
+    for (int cx = 0; cx < cells.n; ++cx)
+      for (int j = 0; j < spc; ++j)
+        for (int i = 0; i < spc; ++i) {
+          double v = 0, sum = 0;
+          for (int b = -reach; b <= reach; ++b)
+            for (int a = -reach; a <= reach; ++a) {
+              const double ww = w[static_cast<std::size_t>(i * width + a + reach)] * w[static_cast<std::size_t>(j * width + b + reach)];
+              sum += ww;
+              if (white(cy + b, cx + a)) v += ww;
+            }
+          out.push_back(sum > 0 ? v / sum : 0.0);
+        }
+  return out;
 }
 
 // Pearson correlation between the pattern (blurred by `sigma` tag units, 0: sharp) and the image at
@@ -47,20 +52,21 @@ template <class ToImage>
 double correlate(const ImageF& img, const TagCells& cells, int samples_per_cell, double sigma, ToImage to_image) {
   if (cells.n < 3 || samples_per_cell < 1 || img.empty()) return NAN;
   const double cell = 2.0 / (cells.n - 2);  // the black square [-1,1]^2 is n - 2 cells across
+  const std::vector<double> model = sigma > 0 ? blurred_pattern(cells, samples_per_cell, sigma / cell) : std::vector<double>{};
   double n = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
   int total = 0;
   for (int cy = 0; cy < cells.n; ++cy)
     for (int cx = 0; cx < cells.n; ++cx) {
       for (int j = 0; j < samples_per_cell; ++j)
         for (int i = 0; i < samples_per_cell; ++i) {
-          ++total;
+          const std::size_t index = static_cast<std::size_t>(total++);
           const double u1 = -1 + (cx - 1 + (i + 0.5) / samples_per_cell) * cell;
           const double u2 = -1 + (cy - 1 + (j + 0.5) / samples_per_cell) * cell;
           const Eigen::Vector2d p = to_image(u1, u2);
           if (!p.allFinite()) continue;
           const std::optional<float> g = sample_bilinear(img, p);  // payload_decode.hpp's, shared
           if (!g) continue;
-          const double v = sigma > 0 ? pattern_value(cells, cell, u1, u2, sigma) : (cells.at(cy, cx) ? 1.0 : 0.0);
+          const double v = sigma > 0 ? model[index] : (cells.at(cy, cx) ? 1.0 : 0.0);
           n += 1, sx += v, sy += *g, sxx += v * v, syy += double(*g) * *g, sxy += v * *g;
         }
     }
