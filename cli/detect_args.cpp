@@ -83,6 +83,8 @@ JSON output (one document for the whole run):
                                "homography": [[3] x3] (tag square [-1,1]^2 -> pixels),
                                "pose": {"R": [[3] x3], "t": [x,y,z], "reprojection_rms_px"}  (with --camera),
                                "pose_alternative": {same}  (when the planar ambiguity has a 2nd solution),
+                               each with "pattern_correlation" when the pose choice judged the two;
+                               "pose_ambiguous": true  (the image could not tell them apart),
                                "timings_ms": {"blur","gradient","segmentation","line_fit","quads",
                                               "decode","pose","total"} (of the frame)}],
                "explain": [{"at": [x,y], "given": "X,Y[,FAMILY:ID]", "stage", "bits_wrong": n or null,

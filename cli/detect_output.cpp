@@ -95,7 +95,9 @@ std::string Sink::matrix(const Eigen::Matrix3d& m) {
 
 std::string Sink::pose(const PoseSolution& p) {
   return "{\"R\": " + matrix(p.pose.R) + ", \"t\": [" + json_number(p.pose.t.x()) + ", " + json_number(p.pose.t.y()) +
-         ", " + json_number(p.pose.t.z()) + "], \"reprojection_rms_px\": " + json_number(p.reprojection_rms_px) + "}";
+         ", " + json_number(p.pose.t.z()) + "], \"reprojection_rms_px\": " + json_number(p.reprojection_rms_px) +
+         (std::isfinite(p.pattern_correlation) ? ", \"pattern_correlation\": " + json_number(p.pattern_correlation) : "") +
+         "}";
 }
 
 void Sink::emit_json(const Outcome& o) {
@@ -114,6 +116,7 @@ void Sink::emit_json(const Outcome& o) {
     s += "], \"center\": " + point(d.center) + ",\n       \"homography\": " + matrix(d.homography);
     if (d.pose) s += ",\n       \"pose\": " + pose(*d.pose);
     if (d.pose_alternative) s += ",\n       \"pose_alternative\": " + pose(*d.pose_alternative);
+    if (d.pose_ambiguous) s += ", \"pose_ambiguous\": true";
     const StageTimings& t = d.timings;
     s += ",\n       \"timings_ms\": {\"blur\": " + json_number(t.blur) +
          ", \"gradient\": " + json_number(t.gradient) + ", \"segmentation\": " + json_number(t.segmentation) +

@@ -98,6 +98,8 @@ PYBIND11_MODULE(tagbench, m) {
       .def_property_readonly("R", [](const PoseSolution& p) { return to_numpy(p.pose.R); }, "3x3 rotation")
       .def_property_readonly("t", [](const PoseSolution& p) { return to_numpy(p.pose.t); }, "translation (3,), metres")
       .def_readonly("error", &PoseSolution::reprojection_rms_px, "RMS reprojection error of the corners, pixels")
+      .def_readonly("pattern_correlation", &PoseSolution::pattern_correlation,
+                    "correlation of the decoded pattern projected by this pose with the image (NaN: not judged)")
       .def("__repr__", [](const PoseSolution& p) {
         return "tagbench.Pose(t=[" + std::to_string(p.pose.t.x()) + ", " + std::to_string(p.pose.t.y()) + ", " +
                std::to_string(p.pose.t.z()) + "], error=" + std::to_string(p.reprojection_rms_px) + ")";
@@ -116,6 +118,8 @@ PYBIND11_MODULE(tagbench, m) {
                              "3x3: tag square [-1,1]^2 (printed axes) -> pixels")
       .def_readonly("pose", &Detection::pose, "best Pose (with camera and tag_size), else None")
       .def_readonly("pose_alternative", &Detection::pose_alternative, "the planar ambiguity's other Pose, or None")
+      .def_readonly("pose_ambiguous", &Detection::pose_ambiguous,
+                    "True when the image could not tell pose from pose_alternative (either may be right)")
       .def("__repr__", [](const Detection& d) {
         return "tagbench.Detection(family='" + d.family + "', id=" + std::to_string(d.id) +
                ", hamming=" + std::to_string(d.hamming) + ", center=[" + std::to_string(d.center.x()) + ", " +

@@ -113,6 +113,13 @@ void apply_variant(DetectorOptions& o, const std::string& spec, const std::strin
     else if (k == "posechoice_rms") o.pose_choice.max_alternative_rms_px = x;
     else if (k == "posechoice_gain") o.pose_choice.min_correlation_gain = x;
     else if (k == "posechoice_view") o.pose_choice.min_view_angle_deg = x;
+    else if (k == "posechoice_lens") o.pose_choice.with_lens = x != 0;
+    else if (k == "posechoice_samples") o.pose_choice.samples_per_cell = static_cast<int>(x);
+    else if (k == "posechoice_ambig") o.pose_choice.ambiguous_correlation_gap = x;
+    else if (k == "posechoice_gentle_rms") o.pose_choice.gentle_max_alternative_rms_px = x;
+    else if (k == "posechoice_gentle_gain") o.pose_choice.gentle_min_correlation_gain = x;
+    else if (k == "posechoice_gentle_samples") o.pose_choice.gentle_samples_per_cell = static_cast<int>(x);
+    else if (k == "posechoice_gentle_blur") o.pose_choice.gentle_model_blur_px = x;
     else if (k == "bent") o.bent.enabled = x != 0;
     else if (k == "bent_kink") o.bent.min_kink_px = x;
     else if (k == "bent_pre") o.bent.precheck_fraction = x;

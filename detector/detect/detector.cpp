@@ -189,8 +189,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
 
   // 7. Poses.
   if (opt_.camera) estimate_poses(out, *opt_.camera, opt_.tag_size, opt_.distortion, opt_.refine_pose);
-  if (opt_.camera && opt_.refine_pose && !opt_.distortion)  // the pattern is projected through a pinhole
-    choose_poses_photometric(out, gray, families_, *opt_.camera, opt_.tag_size, opt_.pose_choice);
+  if (opt_.camera && opt_.refine_pose)  // under a lens only with pose_choice.with_lens
+    choose_poses_photometric(out, gray, families_, *opt_.camera, opt_.tag_size, opt_.pose_choice, opt_.distortion);
   tm.pose = ms_since(t);
   tm.total = std::chrono::duration<double, std::milli>(Clock::now() - t_start).count();
   for (auto& d : out) d.timings = tm;

@@ -207,8 +207,9 @@ struct DetectorOptions {
   //                           min_contrast [0, 1];
   //   photometric_guard       max_kink_px, min_kink_significance, min_side_px, max_blur_px, hidden_depth_cells,
   //                           hidden_pad_cells, keep_scale_min_blur_px finite >= 0;
-  //   pose_choice             max_alternative_rms_px, min_correlation_gain finite >= 0; samples_per_cell 1..16;
-  //                           min_view_angle_deg [0, 90];
+  //   pose_choice             max_alternative_rms_px, min_correlation_gain, ambiguous_correlation_gap,
+  //                           gentle_max_alternative_rms_px, gentle_min_correlation_gain, gentle_model_blur_px
+  //                           finite >= 0; samples_per_cell, gentle_samples_per_cell 1..16; min_view_angle_deg [0, 90];
   //                           kink as for bent.kink;
   //   bent                    min_kink_px finite >= 0; precheck_samples 4..256; precheck_fraction [0, 1];
   //                           kink.samples 4..256, kink.end_margin [0, 0.5),
@@ -247,6 +248,10 @@ struct Detection {
   double observed_perimeter = 0;     // px, the four fitted segments' lengths
   std::optional<PoseSolution> pose;              // best pose, when camera and tag size are given
   std::optional<PoseSolution> pose_alternative;  // the planar ambiguity's other solution, if any
+  // The image could not tell the two solutions apart: their pattern correlations differ by less than
+  // PoseChoiceOptions::ambiguous_correlation_gap (both fit the corners). `pose` may then be the wrong
+  // one of the two: a user needing the orientation should treat it as unknown up to the alternative.
+  bool pose_ambiguous = false;
   StageTimings timings;              // of the frame this detection came from
 };
 

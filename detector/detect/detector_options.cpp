@@ -234,6 +234,11 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("pose_choice.min_correlation_gain", pose_choice.min_correlation_gain, 0);
   within("pose_choice.min_view_angle_deg", pose_choice.min_view_angle_deg, 0, 90);
   int_within("pose_choice.samples_per_cell", pose_choice.samples_per_cell, 1, 16);
+  finite_at_least("pose_choice.ambiguous_correlation_gap", pose_choice.ambiguous_correlation_gap, 0);
+  finite_at_least("pose_choice.gentle_max_alternative_rms_px", pose_choice.gentle_max_alternative_rms_px, 0);
+  finite_at_least("pose_choice.gentle_min_correlation_gain", pose_choice.gentle_min_correlation_gain, 0);
+  int_within("pose_choice.gentle_samples_per_cell", pose_choice.gentle_samples_per_cell, 1, 16);
+  finite_at_least("pose_choice.gentle_model_blur_px", pose_choice.gentle_model_blur_px, 0);
   finite_at_least("bent.min_kink_px", bent.min_kink_px, 0);
   validate_border_kink("bent.kink", bent.kink);
   int_within("bent.precheck_samples", bent.precheck_samples, 4, 256);

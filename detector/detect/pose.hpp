@@ -7,6 +7,7 @@
 // the corners are (±s/2, ±s/2, 0) in the order top-left, top-right, bottom-right, bottom-left.
 // Image points: pixels, centres at integer coordinates; lens distortion is removed beforehand.
 #include <array>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -29,6 +30,9 @@ struct Pose {
 struct PoseSolution {
   Pose pose;
   double reprojection_rms_px = 0;  // RMS distance between the observed and projected corners
+  // Pearson correlation (-1..1) of the decoded tag's pattern projected by this pose with the image
+  // (pose_choice.hpp); NaN when the pose choice did not judge it.
+  double pattern_correlation = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The paper's extrinsics from the tag homography (tag_homography(): square [-1,1]^2 -> pixels):
