@@ -14,9 +14,9 @@
 #include <span>
 #include <vector>
 
-#include "detect/image.hpp"
-#include "detect/quad_search.hpp"
-#include "detect/threshold_quads.hpp"
+#include "image.hpp"
+#include "quad_search.hpp"
+#include "threshold_quads.hpp"
 
 namespace tagbench {
 
