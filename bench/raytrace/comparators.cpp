@@ -21,6 +21,7 @@
 #include "codes/families.hpp"
 #include "detect/detector.hpp"
 #include "detect/detector_opencv.hpp"
+#include "raytrace/detector_variants.hpp"
 
 namespace tagbench::bench {
 
@@ -48,108 +49,9 @@ void check_setup(const ComparatorSetup& s) {
 
 // ---- ours ------------------------------------------------------------------------------------------
 
-// A variant's settings after the base name, '/'-separated KEY=VALUE (experiments: each change of the
-// default profile measured on its own), e.g. "tagbench/finder=gradient/sharpen=0.25".
-void apply_variant(DetectorOptions& o, const std::string& spec, const std::string& name) {
-  std::size_t pos = 0;
-  while (pos < spec.size()) {
-    const std::size_t end = std::min(spec.find('/', pos), spec.size());
-    const std::string kv = spec.substr(pos, end - pos);
-    pos = end + 1;
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos) throw std::invalid_argument("detector '" + name + "': '" + kv + "' is not KEY=VALUE");
-    const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
-    const double x = std::strtod(v.c_str(), nullptr);
-    if (k == "finder") o.quad_finder = v == "gradient" ? QuadFinderKind::kGradient : QuadFinderKind::kThreshold;
-    else if (k == "reader") o.payload_reader = v == "point" ? PayloadReaderKind::kPoint : PayloadReaderKind::kArea;
-    else if (k == "k") o.payload_area.samples_per_side = static_cast<int>(x);
-    else if (k == "extent") o.payload_area.sample_extent = x;
-    else if (k == "sharpen") o.payload_area.sharpening = x;
-    else if (k == "small_px") o.payload_area.small_cell_px = x;
-    else if (k == "small_sharpen") o.payload_area.small_cell_sharpening = x;
-    else if (k == "refine") o.threshold_quads.refine_edges = x != 0;
-    else if (k == "gamma") o.threshold_quads.refine.gamma = x;
-    else if (k == "refine_iter") o.threshold_quads.refine.iterations = static_cast<int>(x);
-    else if (k == "refine_spacing") o.threshold_quads.refine.sample_spacing_px = x;
-    else if (k == "hamming") o.max_hamming = static_cast<int>(x), o.hamming_by_family = false;  // every family
-    else if (k == "byfamily") o.hamming_by_family = x != 0;
-    else if (k == "tile") o.threshold_quads.threshold.tile_size = static_cast<int>(x);
-    else if (k == "contrast") o.threshold_quads.threshold.min_contrast = static_cast<float>(x);
-    else if (k == "low_contrast") o.threshold_quads.threshold.low_contrast = static_cast<float>(x);
-    else if (k == "weber") o.threshold_quads.threshold.weber_ratio = static_cast<float>(x);
-    else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);
-    else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
-    else if (k == "margin") o.min_decision_margin = x;
-    else if (k == "tblur") o.threshold_quads.blur_sigma = x;
-    else if (k == "minpts") o.threshold_quads.fit.min_points = static_cast<int>(x);
-    else if (k == "maxima") o.threshold_quads.fit.max_maxima = static_cast<int>(x);
-    else if (k == "mse") o.threshold_quads.fit.max_line_fit_mse = x;
-    else if (k == "dark8") o.threshold_quads.dark_eight_connected = x != 0;
-    else if (k == "oneside") o.threshold_quads.fit.refit_one_side = x != 0;
-    else if (k == "photo") o.photometric.enabled = x != 0;
-    else if (k == "photo_iter") o.photometric.iterations = static_cast<int>(x);
-    else if (k == "photo_px") o.photometric.max_pixels = static_cast<int>(x);
-    else if (k == "photo_per_side") o.photometric.pixels_per_side_px = x;
-    else if (k == "photo_shift") o.photometric.max_corner_shift_px = x;
-    else if (k == "photo_blur") o.photometric.max_blur_cells = x;
-    else if (k == "photo_band") o.photometric.band_px = x;
-    else if (k == "photo_margin") o.photometric.margin_cells = x;
-    else if (k == "photo_huber") o.photometric.huber = x;
-    else if (k == "photo_dots") o.photometric.column_dot_sums = x != 0;
-    else if (k == "pguard") o.photometric_guard.enabled = x != 0;
-    else if (k == "pguard_kink") o.photometric_guard.max_kink_px = x;
-    else if (k == "pguard_blur") o.photometric_guard.max_blur_px = x;
-    else if (k == "pguard_sig") o.photometric_guard.min_kink_significance = x;
-    else if (k == "pguard_side") o.photometric_guard.min_side_px = x;
-    else if (k == "pguard_fold") o.photometric_guard.kink.max_fold_offset = x;
-    else if (k == "pguard_range") o.photometric_guard.kink.range_cells = x;
-    else if (k == "pguard_samples") o.photometric_guard.kink.samples = static_cast<int>(x);
-    else if (k == "pguard_hidden") o.photometric_guard.skip_hidden_sides = x != 0;
-    else if (k == "pguard_mask") o.photometric_guard.hidden_depth_cells = x;
-    else if (k == "pguard_pad") o.photometric_guard.hidden_pad_cells = x;
-    else if (k == "pguard_blurscale") o.photometric_guard.blurred_keep_scale = x != 0;
-    else if (k == "pguard_blurscale_px") o.photometric_guard.keep_scale_min_blur_px = x;
-    else if (k == "posechoice") o.pose_choice.enabled = x != 0;
-    else if (k == "posechoice_rms") o.pose_choice.max_alternative_rms_px = x;
-    else if (k == "posechoice_gain") o.pose_choice.min_correlation_gain = x;
-    else if (k == "posechoice_view") o.pose_choice.min_view_angle_deg = x;
-    else if (k == "posechoice_lens") o.pose_choice.with_lens = x != 0;
-    else if (k == "posechoice_samples") o.pose_choice.samples_per_cell = static_cast<int>(x);
-    else if (k == "posechoice_ambig") o.pose_choice.ambiguous_correlation_gap = x;
-    else if (k == "posechoice_gentle_rms") o.pose_choice.gentle_max_alternative_rms_px = x;
-    else if (k == "posechoice_gentle_gain") o.pose_choice.gentle_min_correlation_gain = x;
-    else if (k == "posechoice_gentle_samples") o.pose_choice.gentle_samples_per_cell = static_cast<int>(x);
-    else if (k == "posechoice_gentle_blur") o.pose_choice.gentle_model_blur_px = x;
-    else if (k == "bent") o.bent.enabled = x != 0;
-    else if (k == "bent_kink") o.bent.min_kink_px = x;
-    else if (k == "bent_pre") o.bent.precheck_fraction = x;
-    else if (k == "bent_side") o.bent.min_side_px = x;
-    else if (k == "bent_fold") o.bent.kink.max_fold_offset = x;
-    else if (k == "occl") o.threshold_quads.fit.tolerate_occlusion = x != 0;
-    else if (k == "refit") o.occlusion_refit = x != 0;
-    else if (k == "agree") o.occlusion.agree_fraction = x;
-    else if (k == "outer") o.threshold_quads.fit.refit_outer_outline = x != 0;
-    else if (k == "outer_bins") o.threshold_quads.fit.outer.bins = static_cast<int>(x);
-    else if (k == "outer_tol") o.threshold_quads.fit.outer.tolerance = x;
-    else if (k == "outer_drop") o.threshold_quads.fit.outer.min_dropped = x;
-    else if (k == "outer_max") o.threshold_quads.fit.outer.max_size_px = x;
-    else if (k == "outer_ring") o.threshold_quads.fit.outer.ring_check = x != 0;
-    else if (k == "ring_share") o.threshold_quads.fit.outer.ring_min_share = x;
-    else if (k == "ring_step") o.threshold_quads.fit.outer.ring_min_step = x;
-    else if (k == "ring_ratio") o.threshold_quads.fit.outer.min_side_ratio = x;
-    else if (k == "look") o.second_look.enabled = x != 0;
-    else if (k == "look_max") o.second_look.max_size_px = x;
-    else if (k == "look_half") o.second_look.at_half_resolution = x != 0;
-    else if (k == "look_inside") o.second_look.inside_only = x != 0;
-    else if (k == "look_gap") o.second_look.min_class_gap = x;
-    else if (k == "outer_half") o.threshold_quads.fit.outer.at_half_resolution = x != 0;
-    else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
-  }
-}
-
 class Ours final : public Comparator {
  public:
-  // paper: DetectorOptions::paper(), else the default profile; variant: see apply_variant.
+  // paper: DetectorOptions::paper(), else the default profile; variant: see detector_variants.hpp.
   Ours(std::string name, const ComparatorSetup& s, bool paper, bool half, const std::string& variant = "")
       : Comparator(name), detector_(options(s, paper, half, variant, name)) {}
 
@@ -164,7 +66,7 @@ class Ours final : public Comparator {
       o.tag_size = s.tag_size;
       o.distortion = s.distortion;
     }
-    apply_variant(o, variant, name);
+    apply_detector_variant(o, variant, name);
     return o;
   }
 

@@ -9,11 +9,7 @@
 //   tagbench-half    the default profile finding quads at half resolution
 //   tagbench-paper   the paper's detector (DetectorOptions::paper()), full resolution
 //   tagbench-paper-half  the paper's detector segmenting at half resolution
-//   NAME/KEY=V/...   one of the four with options changed, for experiments (comparators.cpp's
-//                    apply_variant: finder, reader, k, extent, sharpen, small_px, small_sharpen, refine,
-//                    gamma, hamming (every family), byfamily, tile, contrast, minpix, minwidth, margin, photo, photo_iter,
-//                    photo_px, photo_per_side, photo_band, photo_margin, photo_huber,
-//                    photo_shift, photo_blur)
+//   NAME/KEY=V/...   one of the four with options changed, for experiments (detector_variants.hpp)
 //   libapriltag-d1   AprilTag 3.3 (libapriltag), quad_decimate 1, nthreads 1, its other defaults
 //                    (refine_edges 1, decode_sharpening 0.25, 2 corrected bits); pose by its estimate_tag_pose
 //   libapriltag-d2   the same at quad_decimate 2 (its default)

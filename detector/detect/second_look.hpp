@@ -27,7 +27,7 @@ struct SecondLookOptions {
   double margin_px = 3;       // the region: the quad's bounding box grown by this on every side, >= 0
   // Otsu's two classes' means must differ by at least this ([0, 1] intensities): flat regions are skipped.
   double min_class_gap = 6.0 / 255.0;
-  double min_corner_change_px = 1.0;
+  double min_corner_change_px = 1.0;  // a new quad within this of the old one at every corner is dropped, px
   // Otsu's histogram from the pixels inside the quad only (else the whole region): a tag's card on a
   // darker ground otherwise puts the ground in one class and card and ink in the other.
   bool inside_only = true;
@@ -35,7 +35,7 @@ struct SecondLookOptions {
   // Off: there it found 655 -> 758 of 1384 realistic tags (20-24 px 73 -> 102 of 188) but took the
   // half-resolution profile from 0.87 to 1.23 of libapriltag d2's time on the realistic set and 0.70
   // -> 0.90 on the corpus (target <= 1.0; issue 17, session 8).
-  bool at_half_resolution = false;  // a new quad within this of the old one at every corner is dropped
+  bool at_half_resolution = false;
 };
 
 // New candidate quads for `quads` (full-resolution corners) whose entry in `look` is true. `fit` and
