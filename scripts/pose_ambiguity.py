@@ -38,6 +38,20 @@ def bins_of(rows, key, edges):
     return out
 
 
+def load(path, key):
+    """A JSON object holding `key`, or a one-line refusal naming the file and the problem."""
+    try:
+        with open(path) as fh:
+            data = json.load(fh)
+    except OSError as e:
+        sys.exit(f"pose_ambiguity.py: {path}: {e.strerror}")
+    except ValueError as e:
+        sys.exit(f"pose_ambiguity.py: {path}: not JSON ({e})")
+    if not isinstance(data, dict) or key not in data:
+        sys.exit(f'pose_ambiguity.py: {path}: no "{key}" list (a dataset\'s truth.json / detect --format json?)')
+    return data
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("dataset")
@@ -46,8 +60,8 @@ def main():
     ap.add_argument("--good", type=float, default=5)
     ap.add_argument("--csv")
     a = ap.parse_args()
-    truth = json.load(open(os.path.join(a.dataset, "truth.json")))
-    det = json.load(open(a.detections))
+    truth = load(os.path.join(a.dataset, "truth.json"), "frames")
+    det = load(a.detections, "images")
     by_file = {os.path.basename(im["input"]): im for im in det["images"]}
     rows = []
     for f in truth["frames"]:
