@@ -6,23 +6,15 @@
 
 #include "codes/families.hpp"
 #include "realistic/realistic_ceiling.hpp"
+#include "clean_camera.hpp"
 
 namespace tagbench::bench {
 namespace {
 
+// The tests' quantizing camera, tags 24-32 px with a fixed print and light.
 RealisticSettings clean_camera() {
-  RealisticSettings s;
-  s.width = 320;
-  s.height = 240;
-  s.focal_px = 320;
-  s.min_tags = 2;
-  s.max_tags = 3;
+  RealisticSettings s = testing::clean_camera();
   s.black_square_px = {24, 32};
-  s.blur_sigma_px = {0, 0};
-  s.motion_blur_px = {0, 0};
-  s.full_well_e = {1e7, 1e7};
-  s.read_noise_e = {0, 0};
-  s.jpeg_quality = {100, 100};
   s.ink_reflectance = {0.05, 0.05};
   s.paper_reflectance = {0.85, 0.85};
   s.face_light = {1, 1};

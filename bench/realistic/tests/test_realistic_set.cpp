@@ -9,6 +9,7 @@
 
 #include "raytrace/comparators.hpp"
 #include "realistic/realistic_set.hpp"
+#include "clean_camera.hpp"
 
 namespace tagbench::bench {
 namespace {
@@ -17,21 +18,7 @@ bool same_pixels(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() && cv::countNonZero(a != b) == 0;
 }
 
-// A camera that only quantizes (no blur, noise or JPEG loss to speak of), for isolating one degradation.
-RealisticSettings clean_camera() {
-  RealisticSettings s;
-  s.width = 320;
-  s.height = 240;
-  s.focal_px = 320;
-  s.min_tags = 2;
-  s.max_tags = 3;
-  s.blur_sigma_px = {0, 0};
-  s.motion_blur_px = {0, 0};
-  s.full_well_e = {1e7, 1e7};
-  s.read_noise_e = {0, 0};
-  s.jpeg_quality = {100, 100};
-  return s;
-}
+using testing::clean_camera;
 
 TEST(RealisticSet, SameSeedAndIndexGiveTheSameBytes) {
   RealisticSettings s;
