@@ -13,14 +13,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// The largest corner distance when quad corner (k + shift) % 4 stands for the tag's corner k.
-double corner_error(const Corners& quad, const Corners& truth, int shift) {
-  double worst = 0;
-  for (int k = 0; k < 4; ++k)
-    worst = std::max(worst, (quad[static_cast<std::size_t>((k + shift) % 4)] - truth[static_cast<std::size_t>(k)]).norm());
-  return worst;
-}
-
 double point_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
   const double len2 = ab.squaredNorm();
@@ -82,7 +74,7 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
   LossExplanation out;
 
   for (const Detection& d : detections)
-    if (d.family == fam.name() && d.id == truth.id && corner_error(d.corners, truth.corners, 0) <= tol) {
+    if (d.family == fam.name() && d.id == truth.id && max_corner_distance(d.corners, truth.corners) <= tol) {
       out.stage = LossStage::kDetected;
       out.text = "detected";
       return out;
@@ -95,7 +87,7 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
   bool matched = false;
   for (std::size_t i = 0; i < trace.quads.size(); ++i) {
     for (int shift = 0; shift < 4; ++shift) {
-      const double err = corner_error(trace.quads[i].corners, truth.corners, shift);
+      const double err = max_corner_distance(trace.quads[i].corners, truth.corners, shift);
       nearest = std::min(nearest, err);
       if (err > tol || i >= trace.quad_outcomes.size()) continue;
       const QuadOutcome& o = trace.quad_outcomes[i];
@@ -127,7 +119,7 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
                           options.min_decision_margin);
         } else if (std::any_of(trace.withdrawn.begin(), trace.withdrawn.end(), [&](const Detection& w) {
                      return w.family == fam.name() && w.id == truth.id &&
-                            corner_error(w.corners, truth.corners, 0) <= tol;
+                            max_corner_distance(w.corners, truth.corners) <= tol;
                    })) {
           e.stage = LossStage::kWithdrawn;
           e.text = "decoded right, then withdrawn by the occlusion refit: a side disagrees with the decoded tag "

@@ -6,6 +6,7 @@
 // the tag's right edge, y toward its bottom edge (as printed), so the corners are
 // top-left (-1,-1), top-right (1,-1), bottom-right (1,1), bottom-left (-1,1). Image points use pixel
 // centres at integer coordinates (OpenCV's convention).
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <span>
@@ -31,5 +32,14 @@ Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d
 
 // The unit-square corners in the order above.
 const Corners& tag_square_corners();
+
+// The largest distance between corresponding corners when a[(k + shift) % 4] stands for b[k], px
+// (shift 0..3: the same quad found from another starting corner).
+inline double max_corner_distance(const Corners& a, const Corners& b, int shift = 0) {
+  double worst = 0;
+  for (int k = 0; k < 4; ++k)
+    worst = std::max(worst, (a[static_cast<std::size_t>((k + shift) % 4)] - b[static_cast<std::size_t>(k)]).norm());
+  return worst;
+}
 
 }  // namespace tagbench

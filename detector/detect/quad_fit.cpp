@@ -105,13 +105,6 @@ double box_side_px(std::span<const BoundaryPoint> group) {
   return 0.5 * std::max(xmax - xmin, ymax - ymin);
 }
 
-// The largest distance between corresponding corners of two quads, px.
-double max_corner_distance(const Corners& a, const Corners& b) {
-  double d = 0;
-  for (std::size_t i = 0; i < 4; ++i) d = std::max(d, (a[i] - b[i]).norm());
-  return d;
-}
-
 }  // namespace
 
 std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const ImageF& img, const QuadFitOptions& opt,

@@ -94,14 +94,8 @@ std::vector<Quad> second_look_quads(const ImageF& img, std::span<const Quad> qua
       for (auto& p : q.corners) p += Eigen::Vector2d(x0, y0);
       if (tq.refine_edges)
         if (const auto r = refine_quad_edges(img, q.corners, tq.refine, rscratch)) q.corners = *r;
-      double change = 0;  // the largest corner move against the old quad, in the best cyclic match
-      double best = HUGE_VAL;
-      for (int s = 0; s < 4; ++s) {
-        change = 0;
-        for (int k = 0; k < 4; ++k)
-          change = std::max(change, (q.corners[static_cast<std::size_t>(k)] - c[static_cast<std::size_t>((k + s) % 4)]).norm());
-        best = std::min(best, change);
-      }
+      double best = HUGE_VAL;  // the largest corner move against the old quad, in the best cyclic match
+      for (int s = 0; s < 4; ++s) best = std::min(best, max_corner_distance(c, q.corners, s));
       if (best > opt.min_corner_change_px) out.push_back(q);
     }
   }

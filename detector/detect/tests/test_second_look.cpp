@@ -26,11 +26,7 @@ Quad square_quad(double lo, double hi) {
 }
 double worst_corner_error(const Corners& found, const Corners& want) {
   double best = HUGE_VAL;
-  for (int s = 0; s < 4; ++s) {
-    double w = 0;
-    for (int k = 0; k < 4; ++k) w = std::max(w, (found[k] - want[(k + s) % 4]).norm());
-    best = std::min(best, w);
-  }
+  for (int s = 0; s < 4; ++s) best = std::min(best, max_corner_distance(want, found, s));
   return best;
 }
 }  // namespace
