@@ -2,13 +2,13 @@
 #include "realistic/realistic_ceiling.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 
 #include "codes/bits.hpp"
 #include "detect/decode_quads.hpp"
 #include "detect/homography.hpp"
+#include "tools/format.hpp"
 
 namespace tagbench::bench {
 
@@ -34,12 +34,6 @@ std::pair<bool, int> decode_one(const ImageF& gray, const Corners& corners, cons
   return {ok, wrong};
 }
 
-std::string num(double v, const char* format) {
-  if (!std::isfinite(v)) return "";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
 
 }  // namespace
 
@@ -121,8 +115,8 @@ std::string ceiling_rows_csv(const RealisticResult& r, const CeilingResult& c) {
     const RealisticTag& t = r.frames[sc.frame].tags[sc.tag];
     const TruthReading& tr = c.by_frame.at(sc.frame).at(sc.tag);
     o += pre + std::to_string(r.frames[sc.frame].index) + "," + std::to_string(sc.tag) + "," + std::to_string(t.id) +
-         "," + num(t.black_square_px, "%.4f") + "," + size_bin_of(t.black_square_px).name + "," +
-         num(tr.contrast_levels, "%.2f") + "," + contrast_band_of(tr.contrast_levels) + "," +
+         "," + format_cell(t.black_square_px, "%.4f") + "," + size_bin_of(t.black_square_px).name + "," +
+         format_cell(tr.contrast_levels, "%.2f") + "," + contrast_band_of(tr.contrast_levels) + "," +
          (tr.area_decoded ? "1" : "0") + "," + std::to_string(tr.area_bits_wrong) + "," +
          (tr.point_decoded ? "1" : "0") + "," + std::to_string(tr.point_bits_wrong);
     for (std::size_t d = 0; d < dets.size(); ++d) {

@@ -1,21 +1,17 @@
 // The realistic set's result files (realistic_run.hpp): every CSV has a header row and carries the
 // set's settings in its columns (set, seed, family); the JSON sidecar has all of them.
 #include <cmath>
-#include <cstdio>
 
 #include "realistic/realistic_run.hpp"
 #include "tools/json.hpp"
+#include "tools/format.hpp"
 
 namespace tagbench::bench {
 
 namespace {
 
-std::string num(double v, const char* format = "%.10g") {
-  if (!std::isfinite(v)) return "";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
+// A CSV number: empty when not finite (tools/format.hpp).
+std::string num(double v, const char* format = "%.10g") { return format_cell(v, format); }
 
 std::string range_json(const Range& r) { return std::string("[") + json_number(r.lo) + ", " + json_number(r.hi) + "]"; }
 
