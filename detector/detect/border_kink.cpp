@@ -15,11 +15,39 @@ struct Scan {
   double offset, sigma;
 };
 
-// Buffers of one scan, kept from scan to scan (storage only grows).
+// The steps of one scan: offsets t along the normal and the sample offsets t + h, t - h.
+struct ScanSteps {
+  std::vector<double> t, hi, lo;  // t, t + h, t - h
+  std::vector<int> lo_from;       // j - m where the sample at t - h is the one at t + h of step j - m, else -1
+  double lo_end = 0, hi_end = 0;  // the smallest and largest offset sampled
+  double centre = NAN, range = NAN;  // what they were made for (NaN: nothing yet)
+};
+
+// Buffers of the scans, kept from scan to scan (storage only grows): the steps of centre 0 (every
+// point's first scan on a side, one range) are made once per side, those of the re-centred scans each time.
 struct ScanScratch {
-  std::vector<double> t;     // the scan's offsets along the normal
+  ScanSteps at_zero, recentred;
   std::vector<float> value;  // the sample at t + h of each offset
 };
+
+const ScanSteps& scan_steps(double centre, double range, const BorderKinkOptions& opt, ScanScratch& scratch) {
+  ScanSteps& s = centre == 0 ? scratch.at_zero : scratch.recentred;
+  if (s.centre == centre && s.range == range) return s;
+  const double h = opt.derivative_half_px;
+  s.t.clear();
+  for (double t = centre - range; t <= centre + range + 1e-9; t += opt.step_px) s.t.push_back(t);
+  const std::size_t n = s.t.size(), m = static_cast<std::size_t>(std::max(0L, std::lround(2 * h / opt.step_px)));
+  s.hi.resize(n), s.lo.resize(n), s.lo_from.resize(n);
+  double lo_end = HUGE_VAL, hi_end = -HUGE_VAL;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double t = s.t[j];
+    s.hi[j] = t + h, s.lo[j] = t - h;
+    lo_end = std::min({lo_end, t - h, t + h}), hi_end = std::max({hi_end, t - h, t + h});
+    s.lo_from[j] = m >= 1 && j >= m && s.t[j - m] + h == t - h ? static_cast<int>(j - m) : -1;
+  }
+  s.lo_end = lo_end, s.hi_end = hi_end, s.centre = centre, s.range = range;
+  return s;
+}
 
 // The edge along p + t n for t in centre +- range: weighted mean and spread of the squared positive
 // derivative; nullopt when a sample leaves the image or no step rises.
@@ -30,26 +58,22 @@ struct ScanScratch {
 std::optional<Scan> scan_edge(const ImageF& img, const Eigen::Vector2d& p, const Eigen::Vector2d& n, double centre,
                               double range, const BorderKinkOptions& opt, ScanScratch& scratch) {
   const double h = opt.derivative_half_px;
-  auto& ts = scratch.t;
-  ts.clear();
-  double lo_end = HUGE_VAL, hi_end = -HUGE_VAL;
-  for (double t = centre - range; t <= centre + range + 1e-9; t += opt.step_px) {
-    ts.push_back(t);
-    lo_end = std::min({lo_end, t - h, t + h}), hi_end = std::max({hi_end, t - h, t + h});
-  }
-  if (ts.empty()) return std::nullopt;
+  const ScanSteps& steps = scan_steps(centre, range, opt, scratch);
+  const std::size_t ns = steps.t.size();
+  if (ns == 0) return std::nullopt;
   const auto inside = [&](const Eigen::Vector2d& q) {  // sample_bilinear's domain
     return q.x() >= 0 && q.y() >= 0 && q.x() <= img.width - 1 && q.y() <= img.height - 1;
   };
-  if (img.empty() || !inside(p + lo_end * n) || !inside(p + hi_end * n)) return std::nullopt;
-  const std::size_t m = static_cast<std::size_t>(std::max(0L, std::lround(2 * h / opt.step_px)));
-  scratch.value.resize(ts.size());
+  if (img.empty() || !inside(p + steps.lo_end * n) || !inside(p + steps.hi_end * n)) return std::nullopt;
+  scratch.value.resize(ns);
   float* value = scratch.value.data();
+  const double *ts = steps.t.data(), *thi = steps.hi.data(), *tlo = steps.lo.data();
+  const int* from = steps.lo_from.data();
   double sw = 0, st = 0, stt = 0;
-  for (std::size_t j = 0; j < ts.size(); ++j) {
+  for (std::size_t j = 0; j < ns; ++j) {
     const double t = ts[j];
-    const float hi = value[j] = sample_bilinear_inside(img, p + (t + h) * n);
-    const float lo = m >= 1 && j >= m && ts[j - m] + h == t - h ? value[j - m] : sample_bilinear_inside(img, p + (t - h) * n);
+    const float hi = value[j] = sample_bilinear_inside(img, p + thi[j] * n);
+    const float lo = from[j] >= 0 ? value[from[j]] : sample_bilinear_inside(img, p + tlo[j] * n);
     const double g = hi - lo;
     if (g <= 0) continue;
     sw += g * g, st += g * g * t, stt += g * g * t * t;

@@ -1,7 +1,12 @@
 #include "detect/boundaries.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace tagbench {
 namespace {
@@ -74,35 +79,17 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
     const std::uint8_t* v = img.data.data() + row;
     const std::uint8_t* below = y + 1 < h ? v + w : nullptr;
     const std::uint32_t* lab = comp.label.data() + row;
-    bool last_diagonal = false;  // did (x - 1, y) add the point toward (x, y + 1)?
-    for (int x = 0; x < w; ++x) {
-      // Skip 8 pixels at once where they, their right neighbours and the three pixels below each are
-      // all equal (flat or inside a region): no boundary there. Most of a frame is like that.
-      if (below && x > 0 && x + 9 <= w) {
-        std::uint64_t a, r, b0, b1, b2;
-        std::memcpy(&a, v + x, 8);
-        std::memcpy(&r, v + x + 1, 8);
-        std::memcpy(&b0, below + x - 1, 8);
-        std::memcpy(&b1, below + x, 8);
-        std::memcpy(&b2, below + x + 1, 8);
-        if (((a ^ r) | (a ^ b0) | (a ^ b1) | (a ^ b2)) == 0) {
-          x += 7;
-          last_diagonal = false;
-          continue;
-        }
-      }
+    int diagonal_x = -2;  // the last pixel of this row that added the point toward (x - 1, y + 1)'s partner
+    // One pixel: its points toward the right, below and the two diagonals below.
+    auto pixel = [&](int x) __attribute__((always_inline)) {
       const std::uint8_t v0 = v[x];
       const bool right = x + 1 < w;
       // Fast exit: nothing of the opposite class among the four forward neighbours.
       const bool any = (right && v0 + v[x + 1] == 255) ||
                        (below && (v0 + below[x] == 255 || (x > 0 && v0 + below[x - 1] == 255) ||
                                   (right && v0 + below[x + 1] == 255)));
-      if (v0 == kTernaryUnknown || !any || !big(lab[x])) {
-        last_diagonal = false;
-        continue;
-      }
+      if (v0 == kTernaryUnknown || !any || !big(lab[x])) return;
       const std::uint32_t l0 = lab[x];
-      bool diagonal = false;
       // Inlined (GCC and Clang keep it a call otherwise): four call sites per boundary pixel.
       auto add = [&](int dx, int dy, std::uint8_t v1, std::uint32_t l1) __attribute__((always_inline)) {
         if (v0 + v1 != 255 || !big(l1)) return false;
@@ -123,11 +110,34 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
         const std::uint32_t* lb = lab + w;
         add(0, 1, below[x], lb[x]);
         // (x-1, y)->(x, y+1) and (x, y)->(x-1, y+1) meet at the same point: add it once.
-        if (x > 0 && !last_diagonal) add(-1, 1, below[x - 1], lb[x - 1]);
-        if (right) diagonal = add(1, 1, below[x + 1], lb[x + 1]);
+        if (x > 0 && diagonal_x != x - 1) add(-1, 1, below[x - 1], lb[x - 1]);
+        if (right && add(1, 1, below[x + 1], lb[x + 1])) diagonal_x = x;
       }
-      last_diagonal = diagonal;
+    };
+    int x = 0;
+#if defined(__SSE2__)
+    // 16 pixels at a time: a pixel equal to its right neighbour and the three pixels below has no
+    // boundary (most of a frame: flat or inside a region); the others are visited in order. The
+    // same points in the same order as one pixel at a time.
+    if (below) {
+      if (w > 0) pixel(x++);
+      for (; x + 17 <= w; x += 16) {
+        const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v + x));
+        const __m128i r = _mm_loadu_si128(reinterpret_cast<const __m128i*>(v + x + 1));
+        const __m128i b0 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(below + x - 1));
+        const __m128i b1 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(below + x));
+        const __m128i b2 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(below + x + 1));
+        const __m128i eq = _mm_and_si128(_mm_and_si128(_mm_cmpeq_epi8(a, r), _mm_cmpeq_epi8(a, b0)),
+                                         _mm_and_si128(_mm_cmpeq_epi8(a, b1), _mm_cmpeq_epi8(a, b2)));
+        unsigned todo = ~static_cast<unsigned>(_mm_movemask_epi8(eq)) & 0xFFFFu;
+        while (todo) {
+          pixel(x + std::countr_zero(todo));
+          todo &= todo - 1;
+        }
+      }
     }
+#endif
+    for (; x < w; ++x) pixel(x);
   }
 
   // Counting sort of the points by group (stable: each group keeps scan order).
