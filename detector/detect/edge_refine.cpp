@@ -114,11 +114,12 @@ std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const Ed
       // ends of the scan are inside the image every sample is: no per-sample test.
       if (!img.empty() && inside(p + lo_end * n) && inside(p + hi_end * n)) {
         float* value = scratch.value.data();
+        BilinearCell cell_hi, cell_lo;  // a quarter-pixel step mostly stays in the same 2 x 2 pixels
         for (std::size_t j = 0; j < steps.size(); ++j) {
           const EdgeRefineScratch::Step& st = steps[j];
-          const float hi = sample_bilinear_inside(img, p + st.hi * n);
+          const float hi = sample_bilinear_inside(img, p + st.hi * n, cell_hi);
           value[j] = hi;
-          const float lo = st.lo_from >= 0 ? value[st.lo_from] : sample_bilinear_inside(img, p + st.lo * n);
+          const float lo = st.lo_from >= 0 ? value[st.lo_from] : sample_bilinear_inside(img, p + st.lo * n, cell_lo);
           // A light-to-dark step counts zero, branch-free (the sign of an image's noise is no pattern
           // a branch predictor learns); adding +0 leaves both sums as skipping would.
           const double g0 = gradient(hi, lo), g = g0 > 0 ? g0 : 0.0;
