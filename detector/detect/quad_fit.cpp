@@ -71,7 +71,8 @@ void corner_candidates(QuadFitScratch& s, int max_maxima) {
   const int k = std::min(20, n / 12);  // kernel half width, about half the points of a short side
   s.err.resize(static_cast<std::size_t>(n));
   s.smooth.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) fit_run(s.cum, (i + n - k) % n, (i + k) % n, nullptr, &s.err[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < n; ++i)  // (i - k) mod n and (i + k) mod n without a division (k < n)
+    fit_run(s.cum, i >= k ? i - k : i + n - k, i + k < n ? i + k : i + k - n, nullptr, &s.err[static_cast<std::size_t>(i)]);
   // Smooth with a 7-tap Gaussian (sigma 1 point), cyclically, so noise gives fewer false maxima.
   static constexpr double g[7] = {0.011109, 0.135335, 0.606531, 1.0, 0.606531, 0.135335, 0.011109};
   for (int i = 0; i < n; ++i) {
@@ -87,7 +88,7 @@ void corner_candidates(QuadFitScratch& s, int max_maxima) {
   s.maxima.clear();
   for (int i = 0; i < n; ++i) {
     const double e = s.smooth[static_cast<std::size_t>(i)];
-    if (e > s.smooth[static_cast<std::size_t>((i + 1) % n)] && e > s.smooth[static_cast<std::size_t>((i + n - 1) % n)])
+    if (e > s.smooth[static_cast<std::size_t>(i + 1 < n ? i + 1 : 0)] && e > s.smooth[static_cast<std::size_t>(i > 0 ? i - 1 : n - 1)])
       s.maxima.push_back(i);
   }
   if (static_cast<int>(s.maxima.size()) > max_maxima) {

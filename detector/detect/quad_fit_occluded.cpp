@@ -83,8 +83,9 @@ bool split_runs(OccludedQuadFitScratch& s, double tol, int max_vertices) {
     const double dx = p1.x - p0.x, dy = p1.y - p0.y, len = std::hypot(dx, dy);
     double worst = -1;
     int wi = -1;
-    for (int i = st + 1; i < e; ++i) {
-      const auto& q = p[static_cast<std::size_t>(i % n)];
+    // i % n without a division per point: i runs through [st + 1, e), wrapping at most once (e - st < 2 n).
+    for (int i = st + 1, k = i % n; i < e; ++i, k = k + 1 == n ? 0 : k + 1) {
+      const auto& q = p[static_cast<std::size_t>(k)];
       const double d = len > 1e-9 ? std::abs(dx * (q.y - p0.y) - dy * (q.x - p0.x)) / len
                                   : std::hypot(q.x - p0.x, q.y - p0.y);
       if (d > worst) worst = d, wi = i;
