@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#if defined(__SSE2__) && !defined(__AVX__)
+#include <xmmintrin.h>
+#endif
+
 namespace tagbench::detail {
 
 PhotometricPattern::PhotometricPattern(const TagCells& c)
@@ -70,6 +74,74 @@ void axis(const PhotometricPattern& pat, const ArrayXf& u, const ArrayXf& is, co
 }
 
 }  // namespace
+
+namespace {
+
+#if defined(__SSE2__) && !defined(__AVX__)  // Eigen's float packet is SSE's 4 wide (AVX: 8, another order)
+// K dot products of column a with columns c[0..K), Eigen's order (lower_column_dots).
+template <int K>
+void dots_sse(const float* a, const float* const* c, Eigen::Index m, float* out) {
+  constexpr Eigen::Index P = 4;
+  const Eigen::Index end2 = m / (2 * P) * (2 * P), end = m / P * P;
+  float res[K];
+  if (end > 0) {
+    __m128 r0[K], r1[K];
+    const __m128 a0 = _mm_loadu_ps(a);
+    for (int k = 0; k < K; ++k) r0[k] = _mm_mul_ps(a0, _mm_loadu_ps(c[k]));
+    if (end > P) {
+      const __m128 a1 = _mm_loadu_ps(a + P);
+      for (int k = 0; k < K; ++k) r1[k] = _mm_mul_ps(a1, _mm_loadu_ps(c[k] + P));
+      for (Eigen::Index i = 2 * P; i < end2; i += 2 * P) {
+        const __m128 x0 = _mm_loadu_ps(a + i), x1 = _mm_loadu_ps(a + i + P);
+        for (int k = 0; k < K; ++k) {
+          r0[k] = _mm_add_ps(r0[k], _mm_mul_ps(x0, _mm_loadu_ps(c[k] + i)));
+          r1[k] = _mm_add_ps(r1[k], _mm_mul_ps(x1, _mm_loadu_ps(c[k] + i + P)));
+        }
+      }
+      for (int k = 0; k < K; ++k) r0[k] = _mm_add_ps(r0[k], r1[k]);
+      if (end > end2) {
+        const __m128 x = _mm_loadu_ps(a + end2);
+        for (int k = 0; k < K; ++k) r0[k] = _mm_add_ps(r0[k], _mm_mul_ps(x, _mm_loadu_ps(c[k] + end2)));
+      }
+    }
+    for (int k = 0; k < K; ++k) {  // Eigen's predux: (x0 + x2) + (x1 + x3)
+      const __m128 t = _mm_add_ps(r0[k], _mm_movehl_ps(r0[k], r0[k]));
+      res[k] = _mm_cvtss_f32(_mm_add_ss(t, _mm_shuffle_ps(t, t, 1)));
+    }
+    for (int k = 0; k < K; ++k)
+      for (Eigen::Index i = end; i < m; ++i) res[k] = res[k] + a[i] * c[k][i];
+  } else {
+    for (int k = 0; k < K; ++k) {
+      res[k] = a[0] * c[k][0];
+      for (Eigen::Index i = 1; i < m; ++i) res[k] = res[k] + a[i] * c[k][i];
+    }
+  }
+  for (int k = 0; k < K; ++k) out[k] = res[k];
+}
+#endif
+
+}  // namespace
+
+void lower_column_dots(const float* data, Eigen::Index stride, Eigen::Index m, int cols, float* out) {
+  for (int a = 0; a < cols; ++a) {
+    const float* ca = data + a * stride;
+#if defined(__SSE2__) && !defined(__AVX__)
+    for (int c = 0; c <= a; c += 4) {
+      const float* cc[4] = {data + c * stride, data + (c + 1) * stride, data + (c + 2) * stride, data + (c + 3) * stride};
+      float* o = out + a * cols + c;
+      switch (std::min(4, a - c + 1)) {
+        case 4: dots_sse<4>(ca, cc, m, o); break;
+        case 3: dots_sse<3>(ca, cc, m, o); break;
+        case 2: dots_sse<2>(ca, cc, m, o); break;
+        default: dots_sse<1>(ca, cc, m, o); break;
+      }
+    }
+#else
+    for (int c = 0; c <= a; ++c)
+      out[a * cols + c] = Eigen::Map<const Eigen::VectorXf>(ca, m).dot(Eigen::Map<const Eigen::VectorXf>(data + c * stride, m));
+#endif
+  }
+}
 
 struct PhotometricScratch::Impl {
   ArrayXf iw, u1, u2, is1, is2, T, T1, T2, Ts, B, r, sw, m1, m2;
@@ -168,8 +240,11 @@ double photometric_normal_equations(const PhotometricPattern& pat, const Photome
       // 120 dot products of contiguous columns (a block's columns stay in L1): about a third of the
       // general rank update's instructions at 15 columns (its packing and 8x4 kernel are built for
       // large matrices). Only the lower triangle is summed, as by the rank update.
+      // (lower_column_dots: the same sums as Jb.col(a).dot(Jb.col(c)), four at a time.)
+      std::array<float, kPhotometricParams * kPhotometricParams> d;
+      lower_column_dots(J.data() + b, J.outerStride(), m, kPhotometricParams, d.data());
       for (int a = 0; a < kPhotometricParams; ++a)
-        for (int c = 0; c <= a; ++c) block_jtj(a, c) = Jb.col(a).dot(Jb.col(c));
+        for (int c = 0; c <= a; ++c) block_jtj(a, c) = d[static_cast<std::size_t>(a * kPhotometricParams + c)];
     } else {
       block_jtj.setZero();
       block_jtj.selfadjointView<Eigen::Lower>().rankUpdate(Jb.transpose());

@@ -65,6 +65,13 @@ struct PhotometricScratch {
   Eigen::VectorXf rw;              // weighted residuals
 };
 
+// out[a * cols + c] = the dot product of columns a and c (c <= a) of the m x cols column-major block
+// at `data` (column k at data + k * stride), each summed exactly as Eigen's VectorXf dot sums it
+// (SSE: two packet accumulators over pairs of packets, joined, a last packet, the horizontal sum,
+// then the remaining coefficients in order), so the same floats; several columns a time, which
+// loads each packet of column a once for up to four dot products. The rest of `out` is left alone.
+void lower_column_dots(const float* data, Eigen::Index stride, Eigen::Index m, int cols, float* out);
+
 // Huber cost (threshold `huber`, intensity units) at `p`, and J^T W J, J^T W r with the IRLS weights;
 // `scale` is pixels per normalised unit. INFINITY (JtJ, Jtr unspecified) when a pixel maps behind the view.
 // column_dots: J^T W J's blocks as column dot products instead of Eigen's rank update (the same sums,

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <vector>
 #include <random>
 
 #include <Eigen/Dense>
@@ -151,4 +153,30 @@ TEST(PhotometricModel, PixelBehindTheViewGivesInfinity) {
   PhotometricVec Jtr;
   PhotometricScratch scratch;
   EXPECT_TRUE(std::isinf(photometric_normal_equations(pb.pat, pb.px, 20, pb.p, 0.05, JtJ, Jtr, scratch)));
+}
+
+// lower_column_dots must give Eigen's own dot products bit for bit (the refinement's corners depend
+// on the summation order): every block length from 1 to 1100 and odd column strides, random values
+// of mixed sign and magnitude.
+TEST(PhotometricModel, LowerColumnDotsAreEigensDotsBitForBit) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1, 1), e(-6, 6);
+  constexpr int kCols = kPhotometricParams;
+  for (Eigen::Index m = 1; m <= 1100; m += (m < 40 ? 1 : 37)) {
+    for (const Eigen::Index pad : {0, 1, 3}) {
+      const Eigen::Index stride = m + pad;
+      std::vector<float> data(static_cast<std::size_t>(stride * kCols));
+      for (float& v : data) v = u(rng) * std::exp2(e(rng));
+      std::vector<float> out(kCols * kCols, 0.0f);
+      lower_column_dots(data.data(), stride, m, kCols, out.data());
+      for (int a = 0; a < kCols; ++a)
+        for (int c = 0; c <= a; ++c) {
+          const Eigen::Map<const Eigen::VectorXf> ca(data.data() + a * stride, m), cc(data.data() + c * stride, m);
+          const float want = ca.dot(cc);
+          ASSERT_EQ(std::memcmp(&want, &out[static_cast<std::size_t>(a * kCols + c)], sizeof(float)), 0)
+              << "m " << m << " stride " << stride << " a " << a << " c " << c << ": " << want << " vs "
+              << out[static_cast<std::size_t>(a * kCols + c)];
+        }
+    }
+  }
 }
