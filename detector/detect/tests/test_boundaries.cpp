@@ -1,6 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+#include <utility>
+#include <vector>
+
 #include "detect/boundaries.hpp"
+#include "detect/components.hpp"
 #include "detect/threshold.hpp"
 
 using namespace tagbench;
@@ -53,4 +59,74 @@ TEST(Boundaries, EmptyAndFlatImagesGiveNoGroups) {
   EXPECT_EQ(group_boundaries(t, connected_components(t)).count(), 0u);
   TernaryImage e;
   EXPECT_EQ(group_boundaries(e, connected_components(e)).count(), 0u);
+}
+
+// The row scan (16 pixels at a time where it can) against the rule written out one pixel at a
+// time: on random blotchy ternary images of widths around the 16-pixel blocks, the same points in
+// the same order and the same groups.
+TEST(Boundaries, FastScanMatchesThePixelByPixelRule) {
+  std::mt19937 rng(11);
+  for (const int W : {1, 2, 16, 17, 18, 33, 40, 64, 97}) {
+    const int H = 23;
+    TernaryImage t{W, H, std::vector<std::uint8_t>(static_cast<std::size_t>(W * H))};
+    // Blotches: each 3x3 block of one class (so components are large enough), then speckle.
+    std::uniform_int_distribution<int> cls(0, 2), speck(0, 9);
+    const std::uint8_t values[3] = {kTernaryDark, kTernaryLight, kTernaryUnknown};
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) t.data[static_cast<std::size_t>(y * W + x)] = values[(x / 3 * 7 + y / 3 * 13) % 3];
+    for (auto& v : t.data)
+      if (speck(rng) == 0) v = values[cls(rng)];
+    const auto c = connected_components(t);
+    BoundaryOptions opt;
+    opt.min_component_pixels = 4;
+    const auto g = group_boundaries(t, c, opt);
+    // The reference: every pixel, its four forward neighbours, the shared diagonal point once.
+    const auto big = [&](std::uint32_t id) { return id != kNoComponent && c.size[id] >= opt.min_component_pixels; };
+    std::vector<std::pair<std::uint64_t, BoundaryPoint>> ref;
+    for (int y = 0; y < H; ++y) {
+      bool last_diag = false;
+      for (int x = 0; x < W; ++x) {
+        const std::uint8_t v0 = t.data[static_cast<std::size_t>(y * W + x)];
+        const std::uint32_t l0 = c.label[static_cast<std::size_t>(y * W + x)];
+        bool diag = false;
+        const auto add = [&](int dx, int dy) {
+          const int x1 = x + dx, y1 = y + dy;
+          if (x1 < 0 || x1 >= W || y1 >= H || v0 == kTernaryUnknown || !big(l0)) return false;
+          const std::uint8_t v1 = t.data[static_cast<std::size_t>(y1 * W + x1)];
+          const std::uint32_t l1 = c.label[static_cast<std::size_t>(y1 * W + x1)];
+          if (v0 + v1 != 255 || !big(l1)) return false;
+          const int sign = v1 > v0 ? 1 : -1;
+          ref.push_back({l0 < l1 ? (std::uint64_t{l1} << 32 | l0) : (std::uint64_t{l0} << 32 | l1),
+                         BoundaryPoint{2 * x + dx, 2 * y + dy, static_cast<std::int8_t>(sign * dx), static_cast<std::int8_t>(sign * dy)}});
+          return true;
+        };
+        add(1, 0);
+        add(0, 1);
+        if (!last_diag) add(-1, 1);
+        diag = add(1, 1);
+        last_diag = diag;
+      }
+    }
+    // Grouped by pair in order of first appearance, scan order within a group.
+    std::vector<std::uint64_t> order;
+    for (const auto& [k, p] : ref)
+      if (std::find(order.begin(), order.end(), k) == order.end()) order.push_back(k);
+    std::vector<BoundaryPoint> want;
+    std::vector<std::size_t> sizes;
+    for (const auto k : order) {
+      std::size_t n = 0;
+      for (const auto& [kk, p] : ref)
+        if (kk == k) want.push_back(p), ++n;
+      sizes.push_back(n);
+    }
+    ASSERT_EQ(g.count(), order.size()) << "width " << W;
+    ASSERT_EQ(g.points.size(), want.size()) << "width " << W;
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      EXPECT_EQ(g.points[i].x2, want[i].x2) << "width " << W << " point " << i;
+      EXPECT_EQ(g.points[i].y2, want[i].y2) << "width " << W << " point " << i;
+      EXPECT_EQ(g.points[i].gx, want[i].gx) << "width " << W << " point " << i;
+      EXPECT_EQ(g.points[i].gy, want[i].gy) << "width " << W << " point " << i;
+    }
+    for (std::size_t k = 0; k < sizes.size(); ++k) EXPECT_EQ(g.group(k).size(), sizes[k]) << "width " << W;
+  }
 }
