@@ -15,12 +15,12 @@ namespace tagbench {
 namespace {
 
 bool inside_quad(const Corners& q, const Eigen::Vector2d& p) {  // convex quad, either winding
-  int pos = 0, neg = 0;
+  int pos = 0;  // sides with p on their left (or on them); counted without a branch
   for (std::size_t i = 0; i < 4; ++i) {
     const Eigen::Vector2d e = q[(i + 1) % 4] - q[i], r = p - q[i];
-    (e.x() * r.y() - e.y() * r.x() >= 0 ? pos : neg)++;
+    pos += e.x() * r.y() - e.y() * r.x() >= 0 ? 1 : 0;
   }
-  return pos == 4 || neg == 4;
+  return pos == 4 || pos == 0;
 }
 
 }  // namespace
@@ -71,7 +71,8 @@ std::vector<Quad> second_look_quads(const ImageF& img, std::span<const Quad> qua
     const int x1 = std::min(img.width - 1, static_cast<int>(std::ceil(x_hi + opt.margin_px)));
     const int y1 = std::min(img.height - 1, static_cast<int>(std::ceil(y_hi + opt.margin_px)));
     if (x1 - x0 < 4 || y1 - y0 < 4) continue;
-    roi = ImageF(x1 - x0 + 1, y1 - y0 + 1);
+    roi.width = x1 - x0 + 1, roi.height = y1 - y0 + 1;  // storage reused from look to look; every pixel written below
+    roi.data.resize(static_cast<std::size_t>(roi.width) * static_cast<std::size_t>(roi.height));
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) roi.at(x - x0, y - y0) = img.at(x, y);
     // Otsu over the pixels inside the quad: the ink and its ring or card, less of the ground around.
