@@ -68,7 +68,7 @@ struct PhotometricScratch {
 // out[a * cols + c] = the dot product of columns a and c (c <= a) of the m x cols column-major block
 // at `data` (column k at data + k * stride), each summed exactly as Eigen's VectorXf dot sums it
 // (SSE: two packet accumulators over pairs of packets, joined, a last packet, the horizontal sum,
-// then the remaining coefficients in order), so the same floats; several columns a time, which
+// then the remaining coefficients in order), so the same floats; several columns at a time, which
 // loads each packet of column a once for up to four dot products. The rest of `out` is left alone.
 void lower_column_dots(const float* data, Eigen::Index stride, Eigen::Index m, int cols, float* out);
 
