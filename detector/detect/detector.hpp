@@ -38,6 +38,7 @@
 #include "quad_search.hpp"
 #include "second_look.hpp"
 #include "segmentation.hpp"
+#include "soft_decode.hpp"
 #include "threshold_quads.hpp"
 
 namespace tagbench {
@@ -140,6 +141,12 @@ struct DetectorOptions {
   // (200 frames, seed 1): 20-24 px tags 134 -> 146 of 188, all sizes 925 -> 970 of 1384, no wrong id;
   // time / libapriltag d1 on 300 corpus images 0.64 -> 0.69 (issue 17, session 8).
   SecondLookOptions second_look = default_profile_second_look();
+  // Beyond the paper: a quad whose reading no family decodes within its corrected bits is decoded
+  // soft (soft_decode.hpp): the codeword likeliest under the cells' signed confidences, accepted only
+  // by a likelihood-ratio rule calibrated to give no false detection of 36h11 on the corpus, and only
+  // for families of minimum Hamming distance >= soft_decode.min_family_hamming (not 16h5). Applies to
+  // decode_quads' quads (first pass and second look). Default profile on; paper(): off.
+  SoftDecodeOptions soft_decode;
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
   double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
   bool half_resolution = false;  // find quads at half resolution (the paper's "4x faster" option; both finders)
