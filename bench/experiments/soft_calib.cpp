@@ -2,6 +2,7 @@
 // refuses, for calibrating its acceptance rule (issue 17). Not part of make test / make bench.
 //
 //   soft_calib realistic --first F --frames N --out rows.csv     realistic set frames F..F+N-1 (seed 1)
+//   soft_calib variants --first F --frames N --out counts.csv   area-reader variants on truth corners
 //   soft_calib corpus --corpus DIR --family 36h11 [--every K] --out rows.csv
 //
 // realistic: every truth tag read through its TRUE corners (source "truth"), and every candidate quad
@@ -10,6 +11,7 @@
 // A row: source, frame/image, black square px, contrast, hard decode (id or -1), the truth tag under
 // the quad's centre (-1: none), soft_match's best id and rotation, D1, D2, bit errors, whether the best codeword is that tag's (right: 1, wrong: 0, no tag: -1), and
 // the cells' confidences (';'-separated).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -139,6 +141,50 @@ int main(int argc, char** argv) {
       }
       std::fprintf(stderr, "\rframe %d", i);
     }
+  } else if (mode == "variants") {
+    // Every truth tag read through its true corners by area-reader variants (sharpening x sample
+    // extent): per 4 px size bin, tags read hard, read soft (hard failed), read as another id.
+    RealisticSettings set;
+    const int first = std::stoi(arg(argc, argv, "first", "200")), frames = std::stoi(arg(argc, argv, "frames", "100"));
+    const TagFamily fam = load_family(set.family);
+    struct Count { int tags = 0, hard = 0, soft = 0, wrong = 0; };
+    const double sharp[] = {0.25, 0.5, 0.75}, extent[] = {0.3, 0.5};
+    std::vector<std::vector<Count>> counts(6, std::vector<Count>(7));
+    for (int i = first; i < first + frames; ++i) {
+      const RealisticFrame f = make_realistic_frame(set, i);
+      const ImageF gray =
+          to_float_image(ImageU8View{f.image.cols, f.image.rows, static_cast<int>(f.image.step), f.image.data});
+      for (const auto& t : f.tags) {
+        const auto bin = static_cast<std::size_t>(std::clamp((static_cast<int>(t.black_square_px) - 12) / 4, 0, 6));
+        const auto H = tag_homography(t.corners);
+        if (!H) continue;
+        for (int v = 0; v < 6; ++v) {
+          PayloadAreaOptions a = opt.payload_area;
+          a.min_contrast = opt.payload.min_contrast;
+          a.sharpening = sharp[v / 2];
+          a.small_cell_sharpening = std::max(a.small_cell_sharpening, a.sharpening);
+          a.sample_extent = extent[v % 2];
+          Count& c = counts[static_cast<std::size_t>(v)][bin];
+          ++c.tags;
+          const auto r = read_payload_area(gray, *H, fam.payload_width(), a);
+          if (!r) continue;
+          if (const auto dec = fam.decode(r->bits, 3)) {
+            (dec->id == t.id && dec->rotation == 0 ? c.hard : c.wrong)++;
+          } else if (const auto s = soft_decode(fam, *r, opt.soft_decode)) {
+            (s->id == t.id && s->rotation == 0 ? c.soft : c.wrong)++;
+          }
+        }
+      }
+      std::fprintf(stderr, "\rframe %d", i);
+    }
+    o.str("");
+    o << "sharpening,sample_extent,bin_lo_px,tags,hard,soft,wrong\n";
+    for (int v = 0; v < 6; ++v)
+      for (std::size_t b = 0; b < 7; ++b) {
+        const Count& c = counts[static_cast<std::size_t>(v)][b];
+        o << sharp[v / 2] << "," << extent[v % 2] << "," << 12 + 4 * b << "," << c.tags << "," << c.hard << ","
+          << c.soft << "," << c.wrong << "\n";
+      }
   } else if (mode == "corpus") {
     const std::filesystem::path dir = arg(argc, argv, "corpus", "");
     const std::string family = arg(argc, argv, "family", "36h11");
