@@ -54,7 +54,15 @@ SoftMatch soft_match(const TagFamily& family, std::span<const float> z, const So
 
 std::optional<DecodeResult> soft_decode(const TagFamily& family, const PayloadReading& reading,
                                         const SoftDecodeOptions& opt) {
-  if (family.min_hamming() < opt.min_family_hamming) return std::nullopt;
+  if (family.min_hamming() < opt.min_family_hamming || static_cast<int>(reading.confidence.size()) != family.bits())
+    return std::nullopt;
+  // Cheap first: the best codeword must lie within max_bit_errors hard bits, so a reading with no word
+  // that near (most refused quads: a random word is about 8 bits from the nearest 36h11 word) is out.
+  Code hard = 0;
+  for (const float v : reading.confidence) hard = (hard << 1) | (v > 0 ? 1u : 0u);
+  int nearest = 64;
+  for (const Code w : family.rotated_words()) nearest = std::min(nearest, std::popcount(w ^ hard));
+  if (nearest > opt.max_bit_errors) return std::nullopt;
   const SoftMatch m = soft_match(family, reading.confidence, opt);
   if (m.best < 0 || m.second < 0 || m.best_bit_errors > opt.max_bit_errors || !(m.best_distance <= opt.max_distance) ||
       !(m.second_distance - m.best_distance >= opt.min_gap))
