@@ -17,7 +17,7 @@
 // the best codeword disagrees with at most max_bit_errors hard bits; it fits (D1 <= max_distance:
 // what disagrees is weak); and it is far likelier than any other (D2 - D1 >= min_gap).
 // Calibration (bench/experiments/soft_calib.cpp; issue 17, session 9): the payloads the hard
-// decoder refused among the default detector's quads on all 1217 corpus images (37158, none a tag)
+// decoder refused among the default detector's quads on all 1182 corpus images (37158, none a tag)
 // and on realistic frames 200-499 (30517 away from any tag, 805 on a tag but not reading it), and
 // those tags' truth-corner readings: with max_bit_errors 6 and no refused payload of any kind within
 // 0.5 of both bounds (none with D1 <= 2 and D2 - D1 >= 4), 60 of the 243 refused true readings pass.
