@@ -144,7 +144,7 @@ struct DetectorOptions {
   // Beyond the paper: a quad whose reading no family decodes within its corrected bits is decoded
   // soft (soft_decode.hpp): the codeword likeliest under the cells' signed confidences, accepted only
   // by a likelihood-ratio rule calibrated to give no false detection of 36h11 on the corpus, and only
-  // for families of minimum Hamming distance >= soft_decode.min_family_hamming (11: 36h11). Applies to
+  // for families of minimum Hamming distance >= soft_decode.min_family_hamming (10: 36h11, 36h10). Applies to
   // decode_quads' quads (first pass and second look). Default profile on; paper(): off.
   SoftDecodeOptions soft_decode;
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
