@@ -101,7 +101,7 @@ std::string arg(int argc, char** argv, const std::string& key, const std::string
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: soft_calib realistic|corpus [options] --out rows.csv\n");
     return 2;
@@ -215,4 +215,13 @@ int main(int argc, char** argv) {
   std::ofstream(out) << o.str();
   std::fprintf(stderr, "\n");
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "soft_calib: %s\n", e.what());
+    return 1;
+  }
 }
