@@ -49,7 +49,8 @@ Options:
                       square, pixel centres at integers, size, tilt, pose, tag size; the camera and
                       what it did), and set.json (the settings)
   --ceiling           also read every tag through its TRUE corners with the default profile's decoding
-                      (area and point reader): what the payload reader could decode if the quads were
+                      (area and point reader; the area reader again with the soft decoder, soft_decode.hpp,
+                      where it decoded nothing hard): what the payload reader could decode if the quads were
                       perfect, per size bin and contrast band (grey levels, white ring - black ring)
   --ideal             no defocus, motion blur, noise, gamma or JPEG (the geometry alone)
 Ranges (LO,HI; a value per frame or tag is drawn uniformly in it; defaults are the calibrated set):
@@ -72,7 +73,7 @@ Writes into DIR:
                          false detections, median and 90th percentile corner RMS
   realistic.json         the settings, how frames are made, the measures, the summary
   realistic_ceiling.csv, realistic_ceiling_summary.csv   (--ceiling) a row per tag: its contrast, whether
-                         the area / point reader decodes it from the truth corners (and bits wrong), each
+                         the area / area+soft / point reader decodes it from the truth corners (and bits wrong), each
                          detector's result; per size bin and contrast band: tags, ceiling, detected
 Plot: /usr/bin/python3 scripts/plot_realistic.py DIR.
 )";

@@ -114,6 +114,11 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "look_inside") o.second_look.inside_only = x != 0;
     else if (k == "look_gap") o.second_look.min_class_gap = x;
     else if (k == "outer_half") o.threshold_quads.fit.outer.at_half_resolution = x != 0;
+    else if (k == "soft") o.soft_decode.enabled = x != 0;
+    else if (k == "soft_d1") o.soft_decode.max_distance = x;
+    else if (k == "soft_gap") o.soft_decode.min_gap = x;
+    else if (k == "soft_bits") o.soft_decode.max_bit_errors = static_cast<int>(x);
+    else if (k == "soft_h") o.soft_decode.min_family_hamming = static_cast<int>(x);
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

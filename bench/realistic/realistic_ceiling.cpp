@@ -19,12 +19,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Decodes the one quad `corners` with the area reader (area != nullptr) or the point reader.
 // Returns (decoded as the tag's own id, bits of its code read wrong or -1).
 std::pair<bool, int> decode_one(const ImageF& gray, const Corners& corners, const TagFamily& family, int id,
-                                const DetectorOptions& opt, const PayloadAreaOptions* area) {
+                                const DetectorOptions& opt, const PayloadAreaOptions* area,
+                                const SoftDecodeOptions* soft = nullptr) {
   Quad q;
   q.corners = corners;
   std::vector<QuadOutcome> outcomes;
   const std::vector<Detection> found = decode_quads(gray, std::span(&q, 1), std::span(&family, 1), opt.max_hamming,
-                                                    opt.payload, area, nullptr, &outcomes, opt.hamming_by_family);
+                                                    opt.payload, area, nullptr, &outcomes, opt.hamming_by_family, soft);
   const auto d = static_cast<std::size_t>(family.payload_width());
   int wrong = -1;
   if (!outcomes.empty() && outcomes[0].bits[d])
@@ -49,6 +50,10 @@ TruthReading read_at_truth(const ImageF& gray, const RealisticTag& tag, const Ta
   }
   std::tie(r.area_decoded, r.area_bits_wrong) = decode_one(gray, tag.corners, family, tag.id, opt, &opt.payload_area);
   std::tie(r.point_decoded, r.point_bits_wrong) = decode_one(gray, tag.corners, family, tag.id, opt, nullptr);
+  SoftDecodeOptions soft = opt.soft_decode;
+  soft.enabled = true;
+  r.area_soft_decoded =
+      r.area_decoded || decode_one(gray, tag.corners, family, tag.id, opt, &opt.payload_area, &soft).first;
   return r;
 }
 
@@ -83,6 +88,7 @@ std::vector<CeilingSummaryRow> summarize_ceiling(const RealisticResult& r, const
       if (first) {
         ++row.tags;
         row.area += tr.area_decoded;
+        row.area_soft += tr.area_soft_decoded;
         row.point += tr.point_decoded;
         row.either += tr.area_decoded || tr.point_decoded;
       }
@@ -105,7 +111,7 @@ std::string ceiling_rows_csv(const RealisticResult& r, const CeilingResult& c) {
   const auto& dets = r.settings.detectors;
   std::string o =
       "set,seed,family,frame,tag,id,black_square_px,size_bin,contrast_levels,contrast_band,area_decoded,"
-      "area_bits_wrong,point_decoded,point_bits_wrong";
+      "area_bits_wrong,area_soft_decoded,point_decoded,point_bits_wrong";
   for (const auto& d : dets) o += ",detected_" + d + ",loss_" + d;
   o += "\n";
   const std::string pre = "realistic," + std::to_string(r.settings.set.seed) + "," + r.settings.set.family + ",";
@@ -118,6 +124,7 @@ std::string ceiling_rows_csv(const RealisticResult& r, const CeilingResult& c) {
          "," + format_cell(t.black_square_px, "%.4f") + "," + size_bin_of(t.black_square_px).name + "," +
          format_cell(tr.contrast_levels, "%.2f") + "," + contrast_band_of(tr.contrast_levels) + "," +
          (tr.area_decoded ? "1" : "0") + "," + std::to_string(tr.area_bits_wrong) + "," +
+         (tr.area_soft_decoded ? "1" : "0") + "," +
          (tr.point_decoded ? "1" : "0") + "," + std::to_string(tr.point_bits_wrong);
     for (std::size_t d = 0; d < dets.size(); ++d) {
       const TagScore& s = r.scores[i + d];
@@ -130,13 +137,13 @@ std::string ceiling_rows_csv(const RealisticResult& r, const CeilingResult& c) {
 
 std::string ceiling_summary_csv(const RealisticResult& r, const std::vector<CeilingSummaryRow>& rows) {
   const auto& dets = r.settings.detectors;
-  std::string o = "set,seed,family,frames,size_bin,contrast_band,tags,ceiling_area,ceiling_point,ceiling_either";
+  std::string o = "set,seed,family,frames,size_bin,contrast_band,tags,ceiling_area,ceiling_area_soft,ceiling_point,ceiling_either";
   for (const auto& d : dets) o += ",detected_" + d;
   o += "\n";
   const std::string pre = "realistic," + std::to_string(r.settings.set.seed) + "," + r.settings.set.family + "," +
                           std::to_string(r.frames.size()) + ",";
   for (const auto& row : rows) {
-    o += pre + row.bin + "," + row.band + "," + std::to_string(row.tags) + "," + std::to_string(row.area) + "," +
+    o += pre + row.bin + "," + row.band + "," + std::to_string(row.tags) + "," + std::to_string(row.area) + "," + std::to_string(row.area_soft) + "," +
          std::to_string(row.point) + "," + std::to_string(row.either);
     for (const int n : row.detected) {
       o += ',';

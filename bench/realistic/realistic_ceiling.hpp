@@ -25,6 +25,8 @@ struct TruthReading {
   double contrast_levels = 0;             // white ring minus black ring, grey levels; NaN when unreadable
   bool area_decoded = false;              // decode_quads with the area reader gave the tag's own id
   bool point_decoded = false;             // ... with the point reader
+  bool area_soft_decoded = false;         // ... with the area reader, then (where no family decoded it
+                                          // hard) the soft decoder (soft_decode.hpp, opt.soft_decode, enabled)
   int area_bits_wrong = -1, point_bits_wrong = -1;  // bits of the tag's code read wrong (best rotation); -1: no reading
 };
 
@@ -44,14 +46,14 @@ struct CeilingResult {
 
 struct CeilingSummaryRow {
   std::string bin, band;               // size bin (size_bins()) or "all"; contrast band or "all"
-  int tags = 0, area = 0, point = 0, either = 0;
+  int tags = 0, area = 0, area_soft = 0, point = 0, either = 0;  // either: area or point (hard)
   std::vector<int> detected;           // per RealisticResult::settings.detectors
 };
 // Rows for every used (size bin, band) pair, each size bin with band "all", and ("all", "all").
 std::vector<CeilingSummaryRow> summarize_ceiling(const RealisticResult& result, const CeilingResult& ceiling);
 
 // realistic_ceiling.csv: a row per tag (frame, tag, id, black_square_px, size_bin, contrast_levels,
-// contrast_band, area_decoded, area_bits_wrong, point_decoded, point_bits_wrong, then detected_<name> and
+// contrast_band, area_decoded, area_bits_wrong, area_soft_decoded, point_decoded, point_bits_wrong, then detected_<name> and
 // loss_<name> per detector). realistic_ceiling_summary.csv: the summary rows.
 std::string ceiling_rows_csv(const RealisticResult& result, const CeilingResult& ceiling);
 std::string ceiling_summary_csv(const RealisticResult& result, const std::vector<CeilingSummaryRow>& rows);

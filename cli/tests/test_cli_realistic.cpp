@@ -119,10 +119,10 @@ TEST(CliRealistic, CeilingWritesARowPerTagAndTheSummary) {
   EXPECT_EQ(rows.size(), tags.size());  // one detector: a row per tag in both
   EXPECT_EQ(rows[0],
             "set,seed,family,frame,tag,id,black_square_px,size_bin,contrast_levels,contrast_band,area_decoded,"
-            "area_bits_wrong,point_decoded,point_bits_wrong,detected_tagbench,loss_tagbench");
+            "area_bits_wrong,area_soft_decoded,point_decoded,point_bits_wrong,detected_tagbench,loss_tagbench");
   const auto summary = lines(slurp(out / "realistic_ceiling_summary.csv"));
   ASSERT_GE(summary.size(), 3u);
-  EXPECT_EQ(summary[0], "set,seed,family,frames,size_bin,contrast_band,tags,ceiling_area,ceiling_point,"
+  EXPECT_EQ(summary[0], "set,seed,family,frames,size_bin,contrast_band,tags,ceiling_area,ceiling_area_soft,ceiling_point,"
                         "ceiling_either,detected_tagbench");
   EXPECT_EQ(summary.back().rfind("realistic,5,36h11,1,all,all," + std::to_string(rows.size() - 1) + ",", 0), 0u)
       << summary.back();

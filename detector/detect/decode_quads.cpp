@@ -28,11 +28,31 @@ bool decode_readings(std::span<const TagFamily> families, std::span<const std::o
   return have;
 }
 
+bool soft_decode_readings(std::span<const TagFamily> families,
+                          std::span<const std::optional<PayloadReading>> by_width, const SoftDecodeOptions& soft,
+                          Detection& best) {
+  bool have = false;
+  for (const TagFamily& f : families) {
+    const auto& reading = by_width[static_cast<std::size_t>(f.payload_width())];
+    if (!reading) continue;
+    const auto dec = soft_decode(f, *reading, soft);
+    if (!dec || (have && dec->hamming >= best.hamming)) continue;
+    have = true;
+    best.family = f.name();
+    best.id = dec->id;
+    best.hamming = dec->hamming;
+    best.rotation = dec->rotation;
+    best.decision_margin = reading->margin;
+  }
+  return have;
+}
+
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
                                     const PayloadOptions& payload, const PayloadAreaOptions* area,
                                     std::vector<PayloadReading>* readings,
-                                    std::vector<QuadOutcome>* outcomes, bool hamming_by_family) {
+                                    std::vector<QuadOutcome>* outcomes, bool hamming_by_family,
+                                    const SoftDecodeOptions* soft) {
   std::vector<Detection> found;
   int max_d = 0;
   for (const TagFamily& f : families) max_d = std::max(max_d, f.payload_width());
@@ -65,7 +85,8 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
       }
     }
     Detection best;
-    const bool have = decode_readings(families, by_width, max_hamming, hamming_by_family, best);
+    bool have = decode_readings(families, by_width, max_hamming, hamming_by_family, best);
+    if (!have && soft && soft->enabled) have = soft_decode_readings(families, by_width, *soft, best);
     if (readings)
       for (auto& r : by_width)
         if (r) readings->push_back(std::move(*r));

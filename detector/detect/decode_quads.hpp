@@ -23,6 +23,7 @@
 #include "detect/payload_area.hpp"
 #include "detect/payload_decode.hpp"
 #include "detect/quad_search.hpp"
+#include "detect/soft_decode.hpp"
 
 namespace tagbench {
 
@@ -39,10 +40,19 @@ namespace tagbench {
 bool decode_readings(std::span<const TagFamily> families, std::span<const std::optional<PayloadReading>> by_width,
                      int max_hamming, bool hamming_by_family, Detection& best);
 
+// The soft decode of one quad's readings (soft_decode.hpp) over `families`, for a quad no family
+// decoded hard: the fewest hard-bit errors wins, the earlier family on ties. Fills best as
+// decode_readings does (hamming: the best codeword's hard-bit distance); false if none is accepted.
+bool soft_decode_readings(std::span<const TagFamily> families,
+                          std::span<const std::optional<PayloadReading>> by_width, const SoftDecodeOptions& soft,
+                          Detection& best);
+
+// `soft`, if given and enabled, decodes soft the quads no family decoded hard (soft_decode_readings).
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
                                     const PayloadOptions& payload, const PayloadAreaOptions* area = nullptr,
                                     std::vector<PayloadReading>* readings = nullptr,
-                                    std::vector<QuadOutcome>* outcomes = nullptr, bool hamming_by_family = false);
+                                    std::vector<QuadOutcome>* outcomes = nullptr, bool hamming_by_family = false,
+                                    const SoftDecodeOptions* soft = nullptr);
 
 }  // namespace tagbench

@@ -161,7 +161,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                                 opt_.payload,
                                                 opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area
                                                                                                 : nullptr,
-                                                trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family);
+                                                trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family,
+                                                &opt_.soft_decode);
   if (opt_.bent.enabled) {
     auto bent = decode_bent_quads(gray, *found.decode_image, found.quads,
                                   std::span(*outcomes).subspan(first_outcome), families_, opt_.max_hamming,
@@ -175,7 +176,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     const std::vector<Quad> again = second_look_quads(gray, found.quads, look, opt_.threshold_quads, opt_.second_look);
     auto more = decode_quads(*found.decode_image, again, families_, opt_.max_hamming, opt_.payload,
                              opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area : nullptr,
-                             trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family);
+                             trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family, &opt_.soft_decode);
     if (trace) trace->quads.insert(trace->quads.end(), again.begin(), again.end());
     decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
   }

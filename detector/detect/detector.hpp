@@ -38,6 +38,7 @@
 #include "quad_search.hpp"
 #include "second_look.hpp"
 #include "segmentation.hpp"
+#include "soft_decode.hpp"
 #include "threshold_quads.hpp"
 
 namespace tagbench {
@@ -140,6 +141,12 @@ struct DetectorOptions {
   // (200 frames, seed 1): 20-24 px tags 134 -> 146 of 188, all sizes 925 -> 970 of 1384, no wrong id;
   // time / libapriltag d1 on 300 corpus images 0.64 -> 0.69 (issue 17, session 8).
   SecondLookOptions second_look = default_profile_second_look();
+  // Beyond the paper: a quad whose reading no family decodes within its corrected bits is decoded
+  // soft (soft_decode.hpp): the codeword likeliest under the cells' signed confidences, accepted only
+  // by a likelihood-ratio rule calibrated to give no false detection of 36h11 on the corpus, and only
+  // for families of minimum Hamming distance >= soft_decode.min_family_hamming (10: 36h11, 36h10). Applies to
+  // decode_quads' quads (first pass and second look). Default profile on; paper(): off.
+  SoftDecodeOptions soft_decode;
   double seg_sigma = 0.8;        // the paper's sigma: blur before segmentation
   double decode_sigma = 0.0;     // optional separate blur of the image the payload is read from (0 = off)
   bool half_resolution = false;  // find quads at half resolution (the paper's "4x faster" option; both finders)
@@ -216,6 +223,7 @@ struct DetectorOptions {
   //                           kink.range_cells, kink.min_range_px, kink.step_px, kink.derivative_half_px
   //                           finite > 0, kink.max_fold_offset [0, 0.9], kink.cells_across >= 1;
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
+  //   soft_decode             max_bit_errors 0..64; max_distance, min_gap, confidence_cap finite >= 0;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
   //                           without; distortion only with a camera, finite;
   //   max_pixels              1..kMaxPixelsCeiling.

@@ -152,6 +152,7 @@ DetectorOptions DetectorOptions::paper() {
   o.photometric_guard.enabled = false;
   o.pose_choice.enabled = false;
   o.second_look.enabled = false;
+  o.soft_decode.enabled = false;
   return o;
 }
 
@@ -249,6 +250,10 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);
   finite_at_least("payload_area.small_cell_px", payload_area.small_cell_px, 0);
   finite_at_least("payload_area.small_cell_sharpening", payload_area.small_cell_sharpening, 0);
+  int_within("soft_decode.max_bit_errors", soft_decode.max_bit_errors, 0, 64);
+  finite_at_least("soft_decode.max_distance", soft_decode.max_distance, 0);
+  finite_at_least("soft_decode.min_gap", soft_decode.min_gap, 0);
+  finite_at_least("soft_decode.confidence_cap", soft_decode.confidence_cap, 0);
 
   if (camera) {
     finite_above("camera.fx", camera->fx, 0);

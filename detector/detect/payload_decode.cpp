@@ -73,6 +73,7 @@ std::optional<PayloadReading> decide_cells(std::span<const double> grid, std::sp
   if (!(r.contrast >= min_contrast)) return std::nullopt;
   double margin = 1.0;
   Code bits = 0;
+  r.confidence.resize(static_cast<std::size_t>(d * d));
   for (int y = 0; y < d; ++y)
     for (int x = 0; x < d; ++x) {
       const double v = payload[static_cast<std::size_t>(y * d + x)];
@@ -81,6 +82,7 @@ std::optional<PayloadReading> decide_cells(std::span<const double> grid, std::sp
       const double w = wm->at(tx, ty), b = bm->at(tx, ty);
       const double thr = 0.5 * (w + b), half = 0.5 * (w - b);
       margin = half > 0 ? std::min(margin, std::abs(v - thr) / half) : 0.0;
+      r.confidence[static_cast<std::size_t>(y * d + x)] = half > 0 ? static_cast<float>((v - thr) / half) : 0.0f;
       bits = (bits << 1) | (v > thr ? 1u : 0u);
     }
   r.bits = bits;

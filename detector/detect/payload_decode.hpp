@@ -39,6 +39,9 @@ struct PayloadReading {
   Code bits = 0;
   double margin = 0;    // min over payload cells of |I - threshold| / ((white - black) / 2), in [0, 1]
   double contrast = 0;  // white model minus black model at the tag centre
+  // Beyond the paper, for soft decoding (soft_decode.hpp): each payload cell's signed confidence
+  // (I - threshold) / ((white - black) / 2), row-major (the bits' order, MSB first).
+  std::vector<float> confidence;
   // The sample points in image coordinates (for the debug pictures of the paper's Fig. 4).
   std::vector<Eigen::Vector2d> white_points, black_points, payload_points;
 };

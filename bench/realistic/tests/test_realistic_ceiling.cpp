@@ -35,6 +35,7 @@ TEST(RealisticCeiling, TruthCornersOfACleanTagDecodeWithBothReaders) {
     const TruthReading r = read_at_truth(gray, t, fam, DetectorOptions{});
     EXPECT_TRUE(r.area_decoded);
     EXPECT_TRUE(r.point_decoded);
+    EXPECT_TRUE(r.area_soft_decoded);
     EXPECT_EQ(r.area_bits_wrong, 0);
     EXPECT_EQ(r.point_bits_wrong, 0);
     EXPECT_GT(r.contrast_levels, 50);  // ink 0.05, paper 0.85 in full light, gamma-encoded
@@ -52,10 +53,12 @@ TEST(RealisticCeiling, ShiftedCornersOrAFlatImageDoNotDecode) {
   for (auto& c : t.corners) c += shift;
   const TruthReading shifted = read_at_truth(gray, t, fam, DetectorOptions{});
   EXPECT_FALSE(shifted.area_decoded);
+  EXPECT_FALSE(shifted.area_soft_decoded);
   EXPECT_FALSE(shifted.point_decoded);
   const ImageF flat(gray.width, gray.height, 0.5f);
   const TruthReading r = read_at_truth(flat, f.tags.at(0), fam, DetectorOptions{});
   EXPECT_FALSE(r.area_decoded);
+  EXPECT_FALSE(r.area_soft_decoded);
   EXPECT_FALSE(r.point_decoded);
   EXPECT_NEAR(r.contrast_levels, 0, 1e-3);
 }
@@ -82,8 +85,8 @@ TEST(RealisticCeiling, SummaryCountsEachTagOnceAndEachDetectorsDetections) {
   r.frames = {f};
   CeilingResult c;
   TruthReading low, high;
-  low.contrast_levels = 12, low.area_decoded = false, low.point_decoded = true;
-  high.contrast_levels = 80, high.area_decoded = true, high.point_decoded = true;
+  low.contrast_levels = 12, low.area_decoded = false, low.point_decoded = true, low.area_soft_decoded = true;
+  high.contrast_levels = 80, high.area_decoded = true, high.point_decoded = true, high.area_soft_decoded = true;
   c.by_frame = {{low, high}};
   const auto score = [](std::size_t tag, const char* det, bool detected) {
     TagScore s;
@@ -101,17 +104,19 @@ TEST(RealisticCeiling, SummaryCountsEachTagOnceAndEachDetectorsDetections) {
   const auto lo = find("20-24", "10-15");
   EXPECT_EQ(lo.tags, 1);
   EXPECT_EQ(lo.area, 0);
+  EXPECT_EQ(lo.area_soft, 1);
   EXPECT_EQ(lo.point, 1);
   EXPECT_EQ(lo.either, 1);
   EXPECT_EQ(lo.detected, (std::vector<int>{0, 1}));
   const auto all = find("all", "all");
   EXPECT_EQ(all.tags, 2);
   EXPECT_EQ(all.area, 1);
+  EXPECT_EQ(all.area_soft, 2);
   EXPECT_EQ(all.either, 2);
   EXPECT_EQ(all.detected, (std::vector<int>{1, 2}));
   EXPECT_EQ(find("32-40", "all").tags, 1);
   const std::string csv = ceiling_summary_csv(r, rows);
-  EXPECT_NE(csv.find("realistic,1,36h11,1,20-24,10-15,1,0,1,1,0,1\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("realistic,1,36h11,1,20-24,10-15,1,0,1,1,1,0,1\n"), std::string::npos) << csv;
 }
 
 }  // namespace

@@ -1,0 +1,169 @@
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "codes/families.hpp"
+#include "codes/tag_layout.hpp"
+#include "detect/blur.hpp"
+#include "detect/payload_area.hpp"
+#include "detect/soft_decode.hpp"
+#include "synthetic_tag.hpp"
+
+using namespace tagbench;
+
+namespace {
+
+// Confidences of a code: +-amp per cell (MSB first), plus Gaussian noise.
+std::vector<float> confidences_of(Code w, int n, double amp, double noise, std::mt19937& rng) {
+  std::normal_distribution<double> g(0, noise);
+  std::vector<float> z(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) z[static_cast<std::size_t>(k)] = static_cast<float>(((w >> (n - 1 - k)) & 1u ? amp : -amp) + g(rng));
+  return z;
+}
+
+// Brute force: every word's weighted distance (soft_decode.hpp: |z| over its mean, capped).
+std::vector<double> distances(const TagFamily& f, const std::vector<float>& z, double cap) {
+  const int n = f.bits();
+  double scale = 0;
+  for (const float v : z) scale += std::abs(v) / n;
+  std::vector<double> d;
+  for (const Code w : f.rotated_words()) {
+    double s = 0;
+    for (int k = 0; k < n; ++k) {
+      const bool bit = (w >> (n - 1 - k)) & 1u;
+      if (bit != (z[static_cast<std::size_t>(k)] > 0)) s += std::min<double>(std::abs(z[static_cast<std::size_t>(k)]) / scale, cap);
+    }
+    d.push_back(s);
+  }
+  return d;
+}
+
+PayloadReading reading_of(std::vector<float> z) {
+  PayloadReading r;
+  r.confidence = std::move(z);
+  return r;
+}
+
+}  // namespace
+
+// The pruned search finds exactly the brute force's best and second-best distances.
+TEST(SoftDecode, MatchIsTheBruteForceBestAndSecond) {
+  const TagFamily& f = builtin_family("36h11");
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> id(0, static_cast<int>(f.size()) - 1);
+  for (int t = 0; t < 200; ++t) {
+    const auto z = t % 2 ? confidences_of(f.codes()[static_cast<std::size_t>(id(rng))], 36, 0.8, 0.7, rng)
+                         : confidences_of(rng() & low_mask(36), 36, 0.5, 1.0, rng);
+    const SoftMatch m = soft_match(f, z);
+    auto d = distances(f, z, SoftDecodeOptions{}.confidence_cap);
+    ASSERT_GE(m.best, 0);
+    EXPECT_NEAR(m.best_distance, d[static_cast<std::size_t>(m.best)], 1e-6);
+    std::sort(d.begin(), d.end());
+    EXPECT_NEAR(m.best_distance, d[0], 1e-6);
+    EXPECT_NEAR(m.second_distance, d[1], 1e-6);
+    EXPECT_EQ(m.best_bit_errors,
+              std::popcount(f.rotated_words()[static_cast<std::size_t>(m.best)] ^
+                            [&] { Code h = 0; for (int k = 0; k < 36; ++k) if (z[static_cast<std::size_t>(k)] > 0) h |= Code{1} << (35 - k); return h; }()));
+  }
+}
+
+// Random patterns (not codes) are refused: over 100000 of them, of every amplitude and noise, the
+// soft rule accepts fewer than the hard decoder (3 bits corrected) accepts of their hard bits (about
+// 2348 x 7807 / 2^36 = 2.7e-4 of random words for 36h11, 1.1e-3 for 36h10), a quarter of that at most.
+TEST(SoftDecode, RandomPatternsAreRefused) {
+  for (const char* name : {"36h11", "36h10"}) {
+    const TagFamily& f = builtin_family(name);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> amp(0.2, 2.0), noise(0.05, 1.0);
+    int soft = 0, hard = 0;
+    for (int t = 0; t < 100000; ++t) {
+      const auto z = confidences_of((Code(rng()) | Code(rng()) << 32) & low_mask(36), 36, amp(rng), noise(rng), rng);
+      Code bits = 0;
+      for (const float v : z) bits = (bits << 1) | (v > 0 ? 1u : 0u);
+      hard += f.decode(bits, 3).has_value();
+      soft += soft_decode(f, reading_of(z)).has_value();
+    }
+    EXPECT_LE(soft, hard / 4) << name;
+    std::printf("%s random patterns accepted: soft %d, hard (3 bits) %d of 100000\n", name, soft, hard);
+  }
+}
+
+// Noisy readings of a code are decoded as that code or refused, never as another code; and between
+// two codes (half the bits where they differ leaning each way, weakly) the rule refuses.
+TEST(SoftDecode, NeverAWrongCode) {
+  for (const char* name : {"36h11", "36h10"}) {
+    const TagFamily& f = builtin_family(name);
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> pick(0, static_cast<int>(f.size()) - 1);
+    std::uniform_real_distribution<double> noise(0.3, 1.2);
+    int right = 0, wrong = 0;
+    for (int t = 0; t < 20000; ++t) {
+      const int id = pick(rng), rot = static_cast<int>(rng() % 4);
+      const Code w = rotate(f.codes()[static_cast<std::size_t>(id)], 6, rot);
+      const auto dec = soft_decode(f, reading_of(confidences_of(w, 36, 1.0, noise(rng), rng)));
+      if (!dec) continue;
+      (dec->id == id && dec->rotation == rot ? right : wrong)++;
+    }
+    EXPECT_EQ(wrong, 0) << name;
+    EXPECT_GT(right, 100) << name;  // and it does accept readings the hard decoder (3 bits) need not
+    // Between code a and its nearest word b: the differing bits split, weak both ways.
+    int between = 0;
+    for (int t = 0; t < 200; ++t) {
+      const Code a = f.codes()[static_cast<std::size_t>(pick(rng))];
+      Code b = 0;
+      int best = 64;
+      for (const Code w : f.rotated_words())
+        if (w != a && std::popcount(w ^ a) < best) best = std::popcount(w ^ a), b = w;
+      auto z = confidences_of(a, 36, 1.0, 0.0, rng);
+      int flip = 0;
+      for (int k = 0; k < 36; ++k)
+        if (((a ^ b) >> (35 - k)) & 1u) z[static_cast<std::size_t>(k)] = (flip++ % 2 ? 0.15f : -0.15f) * (z[static_cast<std::size_t>(k)] > 0 ? 1 : -1);
+      between += soft_decode(f, reading_of(z)).has_value();
+    }
+    EXPECT_EQ(between, 0) << name;
+  }
+}
+
+// Small families (16h5, 25h9) are never soft decoded by default (min_family_hamming 10); 36h10 is.
+TEST(SoftDecode, SmallFamiliesAreLeftAlone) {
+  std::mt19937 rng(1);
+  const TagFamily& f25 = builtin_family("25h9");
+  EXPECT_FALSE(soft_decode(f25, reading_of(confidences_of(f25.codes()[3], 25, 1.0, 0.0, rng))).has_value());
+  const TagFamily& f10 = builtin_family("36h10");
+  EXPECT_TRUE(soft_decode(f10, reading_of(confidences_of(f10.codes()[3], 36, 1.0, 0.0, rng))).has_value());
+  const TagFamily& f = builtin_family("16h5");
+  const auto z = confidences_of(f.codes()[3], 16, 1.0, 0.0, rng);
+  EXPECT_FALSE(soft_decode(f, reading_of(z)).has_value());
+  SoftDecodeOptions o;
+  o.min_family_hamming = 5;
+  EXPECT_TRUE(soft_decode(f, reading_of(z), o).has_value());
+}
+
+// A low-contrast, noisy, blurred 20 px tag: the area reader's hard bits are often beyond the 3 bits
+// 36h11 corrects; the soft decoder reads more of them, and never a wrong id.
+TEST(SoftDecode, ReadsLowContrastNoisyTagsTheHardDecoderMisses) {
+  const TagFamily& f = builtin_family("36h11");
+  std::mt19937 rng(17);
+  std::normal_distribution<float> noise(0.0f, 0.045f);
+  int hard = 0, soft = 0, wrong = 0;
+  for (int id = 0; id < 60; ++id) {
+    const Corners c = synth::square_tag_corners(25.2 + 0.11 * id, 24.7, 20.0, 0.13 * id);
+    const Eigen::Matrix3d H = synth::homography_for(c);
+    ImageF img = gaussian_blur(synth::render_tag(50, 50, tag_cells(f, id), H, 0.5f, 8, 0.42f, 0.58f), 1.1);
+    for (auto& v : img.data) v += noise(rng);
+    const auto r = read_payload_area(img, H, 6);
+    ASSERT_TRUE(r.has_value());
+    if (const auto dec = f.decode(r->bits, 3)) {
+      hard += dec->id == id;
+      continue;
+    }
+    if (const auto dec = soft_decode(f, *r)) (dec->id == id && dec->rotation == 0 ? soft : wrong)++;
+  }
+  std::printf("low-contrast 20 px tags: hard %d, soft %d more, wrong %d of 60\n", hard, soft, wrong);
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GE(soft, 3);
+  EXPECT_LT(hard, 60);
+}
