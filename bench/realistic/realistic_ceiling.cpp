@@ -90,7 +90,7 @@ std::vector<CeilingSummaryRow> summarize_ceiling(const RealisticResult& r, const
         row.area += tr.area_decoded;
         row.area_soft += tr.area_soft_decoded;
         row.point += tr.point_decoded;
-        row.either += tr.area_decoded || tr.point_decoded;
+        row.either += tr.area_soft_decoded || tr.point_decoded;
       }
       if (sc.detected && det < nd) ++row.detected[det];
     }

@@ -46,7 +46,7 @@ struct CeilingResult {
 
 struct CeilingSummaryRow {
   std::string bin, band;               // size bin (size_bins()) or "all"; contrast band or "all"
-  int tags = 0, area = 0, area_soft = 0, point = 0, either = 0;  // either: area or point (hard)
+  int tags = 0, area = 0, area_soft = 0, point = 0, either = 0;  // either: area (then soft) or point
   std::vector<int> detected;           // per RealisticResult::settings.detectors
 };
 // Rows for every used (size bin, band) pair, each size bin with band "all", and ("all", "all").
