@@ -114,6 +114,18 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "look_inside") o.second_look.inside_only = x != 0;
     else if (k == "look_gap") o.second_look.min_class_gap = x;
     else if (k == "outer_half") o.threshold_quads.fit.outer.at_half_resolution = x != 0;
+    else if (k == "lowc") o.threshold_quads.low_contrast.enabled = x != 0;
+    else if (k == "lowc_contrast") o.threshold_quads.low_contrast.min_contrast = static_cast<float>(x);
+    else if (k == "lowc_max") o.threshold_quads.low_contrast.max_size_px = x;
+    else if (k == "lowc_ring") o.threshold_quads.low_contrast.ring_check = x != 0;
+    else if (k == "lowc_min") o.threshold_quads.low_contrast.min_size_px = x;
+    else if (k == "lowc_margin") o.threshold_quads.low_contrast.margin_px = x;
+    else if (k == "lowc_fill") o.threshold_quads.low_contrast.min_fill = x;
+    else if (k == "lowc_area") o.threshold_quads.low_contrast.min_area_px = x;
+    else if (k == "lowc_occl") o.threshold_quads.low_contrast.occlusion_fit = x != 0;
+    else if (k == "lowc_outer") o.threshold_quads.low_contrast.outer_outline = x != 0;
+    else if (k == "lowc_aspect") o.threshold_quads.low_contrast.min_aspect = x;
+    else if (k == "lowc_half") o.threshold_quads.low_contrast.at_half_resolution = x != 0;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }
