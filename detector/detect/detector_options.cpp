@@ -159,6 +159,7 @@ DetectorOptions DetectorOptions::paper() {
   o.photometric_guard.enabled = false;
   o.pose_choice.enabled = false;
   o.second_look.enabled = false;
+  o.threshold_quads.low_contrast.enabled = false;
   return o;
 }
 

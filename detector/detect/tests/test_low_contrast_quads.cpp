@@ -72,7 +72,7 @@ TEST(LowContrastQuads, RegionFiltersDropLargeSmallAndSparseRegions) {
   for (int x = 20; x < 50; ++x) line.at(x, 40) = kGround - 14.0f / 255;
   EXPECT_TRUE(regions_of(line, LowContrastPassOptions{}).empty());
   LowContrastPassOptions any;
-  any.min_aspect = 0;
+  any.min_aspect = 0, any.min_area_px = 0;
   EXPECT_EQ(regions_of(line, any).size(), 1u);
 }
 
