@@ -202,6 +202,8 @@ struct DetectorOptions {
   //                           [0, 1]; boundaries.min_component_pixels >= 1; fit.min_points >= 4,
   //                           fit.max_maxima 4..64, fit.max_line_fit_mse finite > 0, fit.min_angle_deg
   //                           [0, 45], fit.min_tag_width finite >= 0, fit.dark_inside or light_inside;
+  //   threshold_quads.low_contrast  (low_contrast_quads.hpp) min_contrast, min_fill, min_aspect [0, 1];
+  //                           max_size_px finite > 0; min_size_px, min_area_px, margin_px finite >= 0;
   //   threshold_quads.refine  (edge_refine.hpp) step_px, derivative_half_px, sample_spacing_px,
   //                           range_cell_fraction, max_corner_shift_px, gamma finite > 0;
   //                           0 < min_range_px <= max_range_px, finite; end_margin [0, 0.5);
