@@ -119,6 +119,18 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "soft_gap") o.soft_decode.min_gap = x;
     else if (k == "soft_bits") o.soft_decode.max_bit_errors = static_cast<int>(x);
     else if (k == "soft_h") o.soft_decode.min_family_hamming = static_cast<int>(x);
+    else if (k == "lowc") o.threshold_quads.low_contrast.enabled = x != 0;
+    else if (k == "lowc_contrast") o.threshold_quads.low_contrast.min_contrast = static_cast<float>(x);
+    else if (k == "lowc_max") o.threshold_quads.low_contrast.max_size_px = x;
+    else if (k == "lowc_ring") o.threshold_quads.low_contrast.ring_check = x != 0;
+    else if (k == "lowc_min") o.threshold_quads.low_contrast.min_size_px = x;
+    else if (k == "lowc_margin") o.threshold_quads.low_contrast.margin_px = x;
+    else if (k == "lowc_fill") o.threshold_quads.low_contrast.min_fill = x;
+    else if (k == "lowc_area") o.threshold_quads.low_contrast.min_area_px = x;
+    else if (k == "lowc_occl") o.threshold_quads.low_contrast.occlusion_fit = x != 0;
+    else if (k == "lowc_outer") o.threshold_quads.low_contrast.outer_outline = x != 0;
+    else if (k == "lowc_aspect") o.threshold_quads.low_contrast.min_aspect = x;
+    else if (k == "lowc_half") o.threshold_quads.low_contrast.at_half_resolution = x != 0;
     else throw std::invalid_argument("detector '" + name + "': unknown variant key '" + k + "'");
   }
 }

@@ -87,6 +87,13 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   int_within("threshold_quads.refine.iterations", r.iterations, 1, 100);
   int_within("threshold_quads.refine.cells_across", r.cells_across, 1, 64);
   validate_occluded_fit(q.fit.occluded);
+  within("threshold_quads.low_contrast.min_contrast", q.low_contrast.min_contrast, 0, 1);
+  finite_above("threshold_quads.low_contrast.max_size_px", q.low_contrast.max_size_px, 0);
+  finite_at_least("threshold_quads.low_contrast.min_size_px", q.low_contrast.min_size_px, 0);
+  within("threshold_quads.low_contrast.min_fill", q.low_contrast.min_fill, 0, 1);
+  finite_at_least("threshold_quads.low_contrast.min_area_px", q.low_contrast.min_area_px, 0);
+  within("threshold_quads.low_contrast.min_aspect", q.low_contrast.min_aspect, 0, 1);
+  finite_at_least("threshold_quads.low_contrast.margin_px", q.low_contrast.margin_px, 0);
   int_within("threshold_quads.fit.outer.bins", q.fit.outer.bins, 8, 1024);
   if (!(q.fit.outer.tolerance > 0 && q.fit.outer.tolerance < 1))
     fail("threshold_quads.fit.outer.tolerance", q.fit.outer.tolerance, "must be in (0, 1)");
@@ -153,6 +160,7 @@ DetectorOptions DetectorOptions::paper() {
   o.pose_choice.enabled = false;
   o.second_look.enabled = false;
   o.soft_decode.enabled = false;
+  o.threshold_quads.low_contrast.enabled = false;
   return o;
 }
 

@@ -38,7 +38,16 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   group_boundaries(ws.ternary, ws.components, opt.boundaries, ws.boundary_scratch, ws.groups);
   st.ms_boundaries = lap_ms(t);
 
-  fit_quads(ws.groups, in, quad_fit_options_for(opt.fit, halve), ws.fit, out);
+  const QuadFitOptions fit = quad_fit_options_for(opt.fit, halve);
+  fit_quads(ws.groups, in, fit, ws.fit, out);
+  if (opt.low_contrast.enabled && (!halve || opt.low_contrast.at_half_resolution)) {
+    auto t_low = Clock::now();
+    LowContrastPassOptions low = opt.low_contrast;
+    if (halve) low.max_size_px /= 2;
+    low_contrast_quads(in, ws.threshold, opt.threshold, opt.dark_eight_connected, opt.boundaries, fit, low, ws.low_contrast, ws.fit,
+                       out);
+    st.ms_low_contrast = lap_ms(t_low);
+  }
   if (halve)
     for (Quad& q : out) {
       for (auto& c : q.corners) c = Eigen::Vector2d(full_from_half(c.x()), full_from_half(c.y()));

@@ -12,6 +12,7 @@
 #include "components.hpp"
 #include "edge_refine.hpp"
 #include "image.hpp"
+#include "low_contrast_quads.hpp"
 #include "quad_fit.hpp"
 #include "quad_search.hpp"
 #include "threshold.hpp"
@@ -38,6 +39,9 @@ struct ThresholdQuadOptions {
   QuadFitOptions fit;      // fit.min_tag_width is in full-resolution pixels (halved internally, >= 3)
   bool refine_edges = true;  // refit the sides on the full-resolution image (edge_refine.hpp)
   EdgeRefineOptions refine;  // min_range_px is raised to 2 px when halving (one half-size pixel either side)
+  // A second threshold pass for faint small tags (low_contrast_quads.hpp); off here, the default
+  // profile's value is in detector.hpp.
+  LowContrastPassOptions low_contrast;
 };
 
 // Reusable buffers (only grow; nothing is allocated per frame once one image size has been seen,
@@ -52,10 +56,12 @@ struct ThresholdQuadWorkspace {
   BoundaryGroups groups;
   QuadFitScratch fit;
   EdgeRefineScratch refine;
+  LowContrastScratch low_contrast;
 };
 
 struct ThresholdQuadStats {
   double ms_halve = 0, ms_blur = 0, ms_threshold = 0, ms_components = 0, ms_boundaries = 0, ms_fit = 0, ms_refine = 0;
+  double ms_low_contrast = 0;  // the low-contrast pass (threshold to fit), included in ms_fit
   std::size_t components = 0, groups = 0, boundary_points = 0, quads = 0;
 };
 

@@ -1,0 +1,287 @@
+// Issue 17 experiment driver (session 9): why tags that are readable from their true corners get no
+// candidate quad on the realistic set. For every tag the default profile loses at `no_quad`, the
+// threshold stage is run again step by step and the tag is put in the first class that fits:
+//   border_unknown / border_light   the black border ring is not classed dark (mostly unknown: the
+//                                   contrast floor; mostly light: the window sees darker ground)
+//   ring_unknown / ring_dark        the white ring is not classed light
+//   border_broken                   no one dark component covers 90 % of the border ring
+//   ring_broken                     no one light component covers 90 % of the white ring
+//   dark_merged                     the border's dark component reaches beyond the white ring (ground)
+//   light_leaks_in                  the ring's light component reaches the payload's centre region
+//   small_component                 a component under boundaries.min_component_pixels
+//   no_group                        no boundary group of the pair (border, ring)
+//   fit_failed[:relaxation]         the pair's group gives no quad (and which one relaxed filter gives one)
+//   fit_off                         it gives a quad, but not within the loss tolerance of the truth
+//   fit_ok                          it gives a matching quad (lost later: refinement, duplicates)
+//
+//   candidate_loss FRAMES CEILING_CSV [KEY=V ...]   (KEY=V: the detector variant keys of tagbench raytrace)
+// Prints one line per lost tag and the counts per class and size bin (an experiment log, not a results/ CSV).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/LU>
+
+#include "codes/families.hpp"
+#include "detect/detector.hpp"
+#include "detect/detector_opencv.hpp"
+#include "detect/explain_loss.hpp"
+#include "detect/homography.hpp"
+#include "detect/low_contrast_quads.hpp"
+#include "detect/threshold_quads.hpp"
+#include "raytrace/detector_variants.hpp"
+#include "realistic/realistic_set.hpp"
+
+using namespace tagbench;
+using namespace tagbench::bench;
+
+namespace {
+
+std::map<std::pair<int, int>, bool> read_ceiling(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> head;
+  {
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) head.push_back(c);
+  }
+  auto col = [&](const std::string& n) { return static_cast<std::size_t>(std::find(head.begin(), head.end(), n) - head.begin()); };
+  const auto fr = col("frame"), tg = col("tag"), ad = col("area_decoded"), pd = col("point_decoded");
+  std::map<std::pair<int, int>, bool> out;
+  while (std::getline(in, line)) {
+    std::vector<std::string> v;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) v.push_back(c);
+    out[{std::stoi(v[fr]), std::stoi(v[tg])}] = v[ad] == "1" || v[pd] == "1";
+  }
+  return out;
+}
+
+const char* size_bin(double px) {
+  return px < 16 ? "12-16" : px < 20 ? "16-20" : px < 24 ? "20-24" : px < 28 ? "24-28" : px < 32 ? "28-32" : "32-40";
+}
+
+double best_match(const Corners& a, const Corners& b) {
+  double best = HUGE_VAL;
+  for (int s = 0; s < 4; ++s) best = std::min(best, max_corner_distance(a, b, s));
+  return best;
+}
+
+struct Diagnosis {
+  std::string cls, detail;
+};
+
+Diagnosis diagnose(const ImageF& img, const Corners& truth, const ThresholdQuadOptions& tq, ThresholdQuadWorkspace& ws) {
+  const TernaryImage& t = ws.ternary;
+  const Components& comp = ws.components;
+  const auto H = tag_homography(truth);
+  if (!H) return {"degenerate", ""};
+  const Eigen::Matrix3d Hi = H->inverse();
+  double xmin = 1e9, xmax = -1e9, ymin = 1e9, ymax = -1e9;
+  for (const auto& c : truth) xmin = std::min(xmin, c.x()), xmax = std::max(xmax, c.x()), ymin = std::min(ymin, c.y()), ymax = std::max(ymax, c.y());
+  const double grow = 0.5 * std::max(xmax - xmin, ymax - ymin);
+  const int x0 = std::max(0, static_cast<int>(xmin - grow)), x1 = std::min(img.width - 1, static_cast<int>(xmax + grow));
+  const int y0 = std::max(0, static_cast<int>(ymin - grow)), y1 = std::min(img.height - 1, static_cast<int>(ymax + grow));
+  // Regions in tag coordinates (black square [-1, 1]^2, 8 cells of 0.25): border ring, white ring, centre.
+  int border_n = 0, border_dark = 0, border_light = 0, ring_n = 0, ring_dark = 0, ring_light = 0;
+  std::map<std::uint32_t, int> border_lab, ring_lab;
+  std::vector<std::pair<int, int>> centre_px;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const Eigen::Vector3d u = Hi * Eigen::Vector3d(x, y, 1);
+      const double r = std::max(std::abs(u.x() / u.z()), std::abs(u.y() / u.z()));
+      const auto v = t.at(x, y);
+      const auto lab = comp.label[static_cast<std::size_t>(y) * img.width + x];
+      if (r >= 0.79 && r <= 0.96) {
+        ++border_n, border_dark += v == kTernaryDark, border_light += v == kTernaryLight;
+        if (v == kTernaryDark) ++border_lab[lab];
+      } else if (r >= 1.04 && r <= 1.21) {
+        ++ring_n, ring_dark += v == kTernaryDark, ring_light += v == kTernaryLight;
+        if (v == kTernaryLight) ++ring_lab[lab];
+      } else if (r < 0.5) {
+        centre_px.emplace_back(x, y);
+      }
+    }
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "border d/l/n %d/%d/%d ring d/l/n %d/%d/%d", border_dark, border_light, border_n,
+                ring_dark, ring_light, ring_n);
+  std::string detail = buf;
+  if (border_n == 0 || ring_n == 0) return {"tiny", detail};
+  if (border_dark < 0.6 * border_n)
+    return {border_light > border_n - border_dark - border_light ? "border_light" : "border_unknown", detail};
+  if (ring_light < 0.6 * ring_n) return {ring_dark > ring_n - ring_dark - ring_light ? "ring_dark" : "ring_unknown", detail};
+  auto top = [](const std::map<std::uint32_t, int>& m) {
+    std::pair<std::uint32_t, int> b{kNoComponent, 0};
+    for (const auto& [k, v] : m) if (v > b.second) b = {k, v};
+    return b;
+  };
+  const auto [D, dn] = top(border_lab);
+  const auto [L, ln] = top(ring_lab);
+  const double square_area = 0.5 * std::abs((truth[2] - truth[0]).x() * (truth[3] - truth[1]).y() -
+                                            (truth[2] - truth[0]).y() * (truth[3] - truth[1]).x());
+  std::snprintf(buf, sizeof buf, " D %d/%d size %u (square %.0f) L %d/%d size %u", dn, border_dark, comp.size[D],
+                square_area, ln, ring_light, comp.size[L]);
+  detail += buf;
+  const bool merged = comp.size[D] > 1.15 * square_area;
+  bool leaks = false;
+  for (const auto& [x, y] : centre_px) leaks |= comp.label[static_cast<std::size_t>(y) * img.width + x] == L;
+  if (dn < 0.9 * border_dark) return {"border_broken", detail};
+  if (ln < 0.9 * ring_light) return {merged ? "ring_broken+dark_merged" : "ring_broken", detail};
+  if (merged) return {leaks ? "dark_merged+light_leaks" : "dark_merged", detail};
+  if (leaks) return {"light_leaks_in", detail};
+  if (comp.size[D] < tq.boundaries.min_component_pixels || comp.size[L] < tq.boundaries.min_component_pixels)
+    return {"small_component", detail};
+  // The pair's group.
+  const BoundaryGroups& g = ws.groups;
+  std::size_t gi = g.count();
+  for (std::size_t k = 0; k < g.count() && gi == g.count(); ++k) {
+    const auto& p = g.group(k)[0];
+    const int dx = (p.x2 - p.gx) / 2, dy = (p.y2 - p.gy) / 2, lx = dx + p.gx, ly = dy + p.gy;
+    if (comp.label[static_cast<std::size_t>(dy) * img.width + dx] == D && comp.label[static_cast<std::size_t>(ly) * img.width + lx] == L) gi = k;
+  }
+  if (gi == g.count()) return {"no_group", detail};
+  std::snprintf(buf, sizeof buf, " group %zu pts", g.group(gi).size());
+  detail += buf;
+  const double tol = default_loss_tolerance(truth);
+  auto fit_one = [&](const QuadFitOptions& f) -> double {
+    BoundaryGroups one;
+    one.points.assign(g.group(gi).begin(), g.group(gi).end());
+    one.offsets = {0, static_cast<std::uint32_t>(one.points.size())};
+    std::vector<Quad> q;
+    fit_quads(one, img, f, ws.fit, q);
+    double best = HUGE_VAL;
+    for (const auto& x : q) best = std::min(best, best_match(x.corners, truth));
+    return best;
+  };
+  const QuadFitOptions base = quad_fit_options_for(tq.fit, false);
+  const double d = fit_one(base);
+  if (d <= tol) return {"fit_ok", detail};
+  if (std::isfinite(d)) {
+    std::snprintf(buf, sizeof buf, " off %.1f px", d);
+    return {"fit_off", detail + buf};
+  }
+  std::vector<std::pair<std::string, QuadFitOptions>> relax;
+  { auto f = base; f.max_line_fit_mse *= 4; relax.emplace_back("mse", f); }
+  { auto f = base; f.min_angle_deg = 3; relax.emplace_back("angle", f); }
+  { auto f = base; f.min_points = 8; relax.emplace_back("min_points", f); }
+  { auto f = base; f.max_maxima = 20; relax.emplace_back("maxima", f); }
+  { auto f = base; f.min_tag_width = 3; relax.emplace_back("width", f); }
+  std::string cls = "fit_failed";
+  for (const auto& [n, f] : relax)
+    if (fit_one(f) <= tol) cls += ":" + n;
+  return {cls, detail};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc >= 3 && std::string(argv[1]) == "time") {  // candidate_loss time FRAMES [KEY=V ...]: stage ms
+    std::string spec;
+    for (int i = 3; i < argc; ++i) spec += std::string(i == 3 ? "" : "/") + argv[i];
+    DetectorOptions opt;
+    apply_detector_variant(opt, spec, "tagbench/" + spec);
+    opt.families = {"36h11"};
+    const Detector det(opt);
+    DetectorWorkspace ws;
+    StageTimings sum;
+    for (int fi = 0; fi < std::stoi(argv[2]); ++fi) {
+      const ImageF img = to_float_image(make_realistic_frame(RealisticSettings{}, fi).image);
+      StageTimings tm;
+      det.detect(img, ws, nullptr, &tm);
+      sum.blur += tm.blur, sum.segmentation += tm.segmentation, sum.quads += tm.quads, sum.line_fit += tm.line_fit;
+      sum.decode += tm.decode, sum.total += tm.total, sum.quad_count += tm.quad_count;
+    }
+    std::printf("blur %.0f threshold+components %.0f boundaries+fit %.0f refine %.0f decode(+look) %.0f total %.0f ms; quads %zu\n",
+                sum.blur, sum.segmentation, sum.quads, sum.line_fit, sum.decode, sum.total, sum.quad_count);
+    return 0;
+  }
+  if (argc >= 3 && std::string(argv[1]) == "regions") {  // candidate_loss regions FRAMES: faint regions, tags in them
+    const DetectorOptions opt;
+    LowContrastScratch ls;
+    std::vector<FaintRegion> regs;
+    for (int fi = 0; fi < std::stoi(argv[2]); ++fi) {
+      const RealisticFrame f = make_realistic_frame(RealisticSettings{}, fi);
+      const ImageF img = to_float_image(f.image);
+      ThresholdScratch th;
+      TernaryImage tern;
+      adaptive_threshold(img, opt.threshold_quads.threshold, th, tern);
+      LowContrastPassOptions all;
+      all.min_size_px = 0, all.max_size_px = 1e9, all.min_fill = 0, all.min_area_px = 0;
+      faint_regions(th, img.width, img.height, 2, 10.0f / 255, 20.0f / 255, all, ls, regs);
+      for (const auto& r : regs) {
+        int tag = -1;
+        double px = 0;
+        for (std::size_t t = 0; t < f.tags.size(); ++t) {
+          Eigen::Vector2d c = Eigen::Vector2d::Zero();
+          for (const auto& p : f.tags[t].corners) c += p / 4;
+          if (c.x() >= r.x0 && c.x() <= r.x1 && c.y() >= r.y0 && c.y() <= r.y1) tag = static_cast<int>(t), px = f.tags[t].black_square_px;
+        }
+        const int w = r.x1 - r.x0 + 1, h = r.y1 - r.y0 + 1;
+        std::printf("R %d %d %d %d %.3f %d %.1f\n", fi, w, h, r.tiles, 4.0 * r.tiles / (w * h), tag, px);
+      }
+    }
+    return 0;
+  }
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: candidate_loss FRAMES CEILING_CSV [KEY=V ...]\n");
+    return 2;
+  }
+  const int frames = std::stoi(argv[1]);
+  const auto ceiling = read_ceiling(argv[2]);
+  std::string spec;
+  for (int i = 3; i < argc; ++i) spec += std::string(i == 3 ? "" : "/") + argv[i];
+  DetectorOptions opt;
+  apply_detector_variant(opt, spec, "tagbench/" + spec);
+  opt.families = {"36h11"};
+  const Detector det(opt);
+  const TagFamily fam = load_family("36h11");
+  RealisticSettings rs;
+  std::map<std::string, std::map<std::string, int>> counts;  // class -> bin -> n
+  std::map<std::string, int> stages;
+  ThresholdQuadWorkspace ws;
+  for (int fi = 0; fi < frames; ++fi) {
+    const RealisticFrame f = make_realistic_frame(rs, fi);
+    const ImageF img = to_float_image(f.image);
+    DetectorTrace trace;
+    const auto dets = det.detect(img, &trace);
+    bool ran = false;
+    for (std::size_t ti = 0; ti < f.tags.size(); ++ti) {
+      const auto& tag = f.tags[ti];
+      const auto e = explain_loss(TagTruth{&fam, tag.id, tag.corners}, trace, dets, opt);
+      const auto it = ceiling.find({fi, static_cast<int>(ti)});
+      const bool readable = it != ceiling.end() && it->second;
+      stages[std::string(loss_stage_name(e.stage)) + (readable ? " readable" : " unreadable")]++;
+      if (e.stage != LossStage::kNoQuad || !readable) continue;
+      if (!ran) {
+        std::vector<Quad> q;
+        find_threshold_quads(img, opt.threshold_quads, ws, q);
+        ran = true;
+      }
+      const Diagnosis dg = diagnose(img, tag.corners, opt.threshold_quads, ws);
+      std::printf("frame %d tag %zu id %d px %.1f tilt %.0f ink %.2f paper %.2f light %.2f blur %.2f: %s  %s\n", fi, ti,
+                  tag.id, tag.black_square_px, tag.tilt_deg, tag.ink, tag.paper, tag.light, f.degradation.blur_sigma_px,
+                  dg.cls.c_str(), dg.detail.c_str());
+      counts[dg.cls][size_bin(tag.black_square_px)]++;
+      counts[dg.cls]["all"]++;
+    }
+  }
+  std::printf("\nloss stages (all sizes):\n");
+  for (const auto& [k, v] : stages) std::printf("  %-28s %d\n", k.c_str(), v);
+  std::printf("\nreadable no_quad tags by class and bin:\n%-28s", "class");
+  const char* bins[] = {"12-16", "16-20", "20-24", "24-28", "28-32", "32-40", "all"};
+  for (const char* b : bins) std::printf(" %6s", b);
+  std::printf("\n");
+  for (const auto& [c, m] : counts) {
+    std::printf("%-28s", c.c_str());
+    for (const char* b : bins) std::printf(" %6d", m.count(b) ? m.at(b) : 0);
+    std::printf("\n");
+  }
+  return 0;
+}

@@ -1,0 +1,90 @@
+#include "detect/low_contrast_quads.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "detect/outer_outline.hpp"
+
+namespace tagbench {
+
+void faint_regions(const ThresholdScratch& windows, int w, int h, int t, float low, float high,
+                   const LowContrastPassOptions& opt, LowContrastScratch& s, std::vector<FaintRegion>& out) {
+  out.clear();
+  if (w < 1 || h < 1 || t < 1) return;
+  const int tw = (w + t - 1) / t, th = (h + t - 1) / t;
+  const std::size_t nt = static_cast<std::size_t>(tw) * static_cast<std::size_t>(th);
+  if (windows.tile_min.size() < nt || windows.tile_max.size() < nt) return;
+  s.band.resize(nt);
+  for (std::size_t k = 0; k < nt; ++k) {
+    const float d = windows.tile_max[k] - windows.tile_min[k];
+    s.band[k] = (d >= low) & (d < high) ? 1 : 0;
+  }
+  // 8-connected regions of band tiles (flood fill; a visited tile is set to 2).
+  for (int ty = 0; ty < th; ++ty)
+    for (int tx = 0; tx < tw; ++tx) {
+      std::size_t k0 = static_cast<std::size_t>(ty) * static_cast<std::size_t>(tw) + static_cast<std::size_t>(tx);
+      if (s.band[k0] != 1) continue;
+      int bx0 = tx, bx1 = tx, by0 = ty, by1 = ty, count = 0;
+      s.stack.assign(1, static_cast<int>(k0));
+      s.band[k0] = 2;
+      while (!s.stack.empty()) {
+        const int k = s.stack.back();
+        s.stack.pop_back();
+        const int x = k % tw, y = k / tw;
+        ++count;
+        bx0 = std::min(bx0, x), bx1 = std::max(bx1, x), by0 = std::min(by0, y), by1 = std::max(by1, y);
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= tw || ny >= th) continue;
+            const std::size_t n = static_cast<std::size_t>(ny) * static_cast<std::size_t>(tw) + static_cast<std::size_t>(nx);
+            if (s.band[n] == 1) s.band[n] = 2, s.stack.push_back(static_cast<int>(n));
+          }
+      }
+      const int bw = bx1 - bx0 + 1, bh = by1 - by0 + 1;
+      const double side = static_cast<double>(std::max(bw, bh) * t);
+      if (side < opt.min_size_px || side > opt.max_size_px + 6.0 * t) continue;
+      if (count < opt.min_fill * bw * bh || count * t * t < opt.min_area_px) continue;
+      if (std::min(bw, bh) < opt.min_aspect * std::max(bw, bh)) continue;
+      out.push_back({bx0 * t, by0 * t, std::min(w - 1, (bx1 + 1) * t - 1), std::min(h - 1, (by1 + 1) * t - 1), count});
+    }
+}
+
+void low_contrast_quads(const ImageF& img, const ThresholdScratch& windows, const ThresholdOptions& threshold, bool dark_eight,
+                        const BoundaryOptions& boundaries, const QuadFitOptions& fit, const LowContrastPassOptions& opt,
+                        LowContrastScratch& s, QuadFitScratch& fit_scratch, std::vector<Quad>& out) {
+  if (!opt.enabled || !(opt.min_contrast < threshold.min_contrast)) return;
+  const int t = threshold.tile_size;
+  faint_regions(windows, img.width, img.height, t, opt.min_contrast, threshold.min_contrast, opt, s, s.regions);
+  ThresholdOptions low = threshold;
+  low.min_contrast = opt.min_contrast;
+  low.low_contrast = opt.min_contrast;  // the relative floor off: the low floor is absolute
+  low.weber_ratio = 0;
+  QuadFitOptions f = fit;
+  f.tolerate_occlusion = f.tolerate_occlusion && opt.occlusion_fit;
+  f.refit_outer_outline = f.refit_outer_outline && opt.outer_outline;
+  OuterOutlineOptions ring = fit.outer;
+  ring.ring_min_share = 1.0;
+  for (const FaintRegion& r : s.regions) {
+    const int m = static_cast<int>(std::ceil(opt.margin_px));
+    const int x0 = std::max(0, r.x0 - m), y0 = std::max(0, r.y0 - m);
+    const int x1 = std::min(img.width - 1, r.x1 + m), y1 = std::min(img.height - 1, r.y1 + m);
+    s.crop.width = x1 - x0 + 1, s.crop.height = y1 - y0 + 1;  // storage reused from region to region
+    s.crop.data.resize(static_cast<std::size_t>(s.crop.width) * static_cast<std::size_t>(s.crop.height));
+    for (int y = y0; y <= y1; ++y)
+      std::copy_n(img.data.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * img.width + x0),
+                  s.crop.width, s.crop.data.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0) * s.crop.width));
+    adaptive_threshold(s.crop, low, s.threshold, s.ternary);
+    connected_components(s.ternary, s.component_scratch, s.components, dark_eight);
+    group_boundaries(s.ternary, s.components, boundaries, s.boundary_scratch, s.groups);
+    s.found.clear();
+    fit_quads(s.groups, s.crop, f, fit_scratch, s.found);
+    for (Quad& q : s.found) {
+      for (auto& p : q.corners) p += Eigen::Vector2d(x0, y0);
+      if (opt.ring_check && !outline_has_ring(q.corners, img, ring)) continue;
+      out.push_back(q);
+    }
+  }
+}
+
+}  // namespace tagbench
