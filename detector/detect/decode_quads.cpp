@@ -9,14 +9,20 @@
 
 namespace tagbench {
 
-bool decode_readings(std::span<const TagFamily> families, std::span<const std::optional<PayloadReading>> by_width,
-                     int max_hamming, bool hamming_by_family, Detection& best) {
+namespace {
+
+// The best family's decode of a quad's readings: `decode(family, reading)` gives the family's
+// decoded tag or nothing; on equal Hamming distance the earlier family keeps the quad (">=": the
+// header's tie-break).
+template <typename Decode>
+bool best_family_decode(std::span<const TagFamily> families,
+                        std::span<const std::optional<PayloadReading>> by_width, Decode decode,
+                        Detection& best) {
   bool have = false;
   for (const TagFamily& f : families) {
     const auto& reading = by_width[static_cast<std::size_t>(f.payload_width())];
     if (!reading) continue;
-    const auto dec = f.decode(reading->bits, bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family));
-    // ">=": on equal Hamming distance the earlier family keeps the quad (the header's tie-break).
+    const auto dec = decode(f, *reading);
     if (!dec || (have && dec->hamming >= best.hamming)) continue;
     have = true;
     best.family = f.name();
@@ -28,23 +34,24 @@ bool decode_readings(std::span<const TagFamily> families, std::span<const std::o
   return have;
 }
 
+}  // namespace
+
+bool decode_readings(std::span<const TagFamily> families, std::span<const std::optional<PayloadReading>> by_width,
+                     int max_hamming, bool hamming_by_family, Detection& best) {
+  return best_family_decode(
+      families, by_width,
+      [&](const TagFamily& f, const PayloadReading& r) {
+        return f.decode(r.bits, bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family));
+      },
+      best);
+}
+
 bool soft_decode_readings(std::span<const TagFamily> families,
                           std::span<const std::optional<PayloadReading>> by_width, const SoftDecodeOptions& soft,
                           Detection& best) {
-  bool have = false;
-  for (const TagFamily& f : families) {
-    const auto& reading = by_width[static_cast<std::size_t>(f.payload_width())];
-    if (!reading) continue;
-    const auto dec = soft_decode(f, *reading, soft);
-    if (!dec || (have && dec->hamming >= best.hamming)) continue;
-    have = true;
-    best.family = f.name();
-    best.id = dec->id;
-    best.hamming = dec->hamming;
-    best.rotation = dec->rotation;
-    best.decision_margin = reading->margin;
-  }
-  return have;
+  return best_family_decode(
+      families, by_width, [&](const TagFamily& f, const PayloadReading& r) { return soft_decode(f, r, soft); },
+      best);
 }
 
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
