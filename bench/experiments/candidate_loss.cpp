@@ -14,6 +14,11 @@
 //   fit_off                         it gives a quad, but not within the loss tolerance of the truth
 //   fit_ok                          it gives a matching quad (lost later: refinement, duplicates)
 //
+// Session 10 appends to each class: whether a group_look window (group_look.hpp) holds the tag
+// (|nowin, |win_fail: its one-threshold look finds no matching quad, |win_found), whether an "oracle"
+// window centred on the true tag, 1.6 x its size, finds it (oracle_ok / oracle_fail), and the same on
+// the image blurred by 0.7 / 1.0 px (b7ok / b10ok).
+//
 //   candidate_loss FRAMES CEILING_CSV [KEY=V ...]   (KEY=V: the detector variant keys of tagbench raytrace)
 // Prints one line per lost tag and the counts per class and size bin (an experiment log, not a results/ CSV).
 #include <algorithm>
@@ -33,7 +38,10 @@
 #include "detect/detector_opencv.hpp"
 #include "detect/explain_loss.hpp"
 #include "detect/homography.hpp"
+#include "detect/blur.hpp"
+#include "detect/group_look.hpp"
 #include "detect/low_contrast_quads.hpp"
+#include "detect/second_look.hpp"
 #include "detect/threshold_quads.hpp"
 #include "raytrace/detector_variants.hpp"
 #include "realistic/realistic_set.hpp"
@@ -264,7 +272,38 @@ int main(int argc, char** argv) {
         find_threshold_quads(img, opt.threshold_quads, ws, q);
         ran = true;
       }
-      const Diagnosis dg = diagnose(img, tag.corners, opt.threshold_quads, ws);
+      Diagnosis dg = diagnose(img, tag.corners, opt.threshold_quads, ws);
+      {  // session 10: does a group_look window hold the tag, and does a window's Otsu look find it?
+        GroupLookOptions gl = opt.group_look;
+        gl.enabled = true;
+        const auto wins = group_look_windows(ws.groups, trace.quads, img.width, img.height, gl);
+        Eigen::Vector2d c = Eigen::Vector2d::Zero();
+        for (const auto& p : tag.corners) c += p / 4;
+        SecondLookOptions sl = opt.second_look;
+        sl.max_size_px = HUGE_VAL, sl.margin_px = 0, sl.inside_only = false;
+        const double tol = default_loss_tolerance(tag.corners);
+        auto finds = [&](const std::vector<Quad>& w, const ImageF* im = nullptr) {
+          double best = HUGE_VAL;
+          for (const Quad& q : second_look_quads(im ? *im : img, w, std::vector<bool>(w.size(), true), opt.threshold_quads, sl))
+            best = std::min(best, best_match(q.corners, tag.corners));
+          return best <= tol;
+        };
+        std::vector<Quad> hold;
+        for (const Quad& w : wins)
+          if (c.x() >= w.corners[0].x() && c.x() <= w.corners[2].x() && c.y() >= w.corners[0].y() && c.y() <= w.corners[2].y()) hold.push_back(w);
+        Quad oracle;
+        const double half = 0.8 * tag.black_square_px + 3;
+        oracle.corners = {Eigen::Vector2d(c.x() - half, c.y() - half), Eigen::Vector2d(c.x() + half, c.y() - half),
+                          Eigen::Vector2d(c.x() + half, c.y() + half), Eigen::Vector2d(c.x() - half, c.y() + half)};
+        for (auto& p : oracle.corners) p = p.cwiseMax(Eigen::Vector2d(0, 0)).cwiseMin(Eigen::Vector2d(img.width - 1, img.height - 1));
+        const bool got = !hold.empty() && finds(hold), ora = finds({oracle});
+        ImageF b7, b10, tmp;
+        gaussian_blur(img, 0.7, tmp, b7);
+        gaussian_blur(img, 1.0, tmp, b10);
+        const bool o7 = finds({oracle}, &b7), o10 = finds({oracle}, &b10);
+        dg.cls += std::string(hold.empty() ? " |nowin" : got ? " |win_found" : " |win_fail") + (ora ? " oracle_ok" : " oracle_fail");
+        dg.cls += std::string(o7 ? " b7ok" : " b7no") + (o10 ? " b10ok" : " b10no");
+      }
       std::printf("frame %d tag %zu id %d px %.1f tilt %.0f ink %.2f paper %.2f light %.2f blur %.2f: %s  %s\n", fi, ti,
                   tag.id, tag.black_square_px, tag.tilt_deg, tag.ink, tag.paper, tag.light, f.degradation.blur_sigma_px,
                   dg.cls.c_str(), dg.detail.c_str());

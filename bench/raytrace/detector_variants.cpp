@@ -119,6 +119,12 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "soft_gap") o.soft_decode.min_gap = x;
     else if (k == "soft_bits") o.soft_decode.max_bit_errors = static_cast<int>(x);
     else if (k == "soft_h") o.soft_decode.min_family_hamming = static_cast<int>(x);
+    else if (k == "glook") o.group_look.enabled = x != 0;
+    else if (k == "glook_min") o.group_look.min_size_px = x;
+    else if (k == "glook_max") o.group_look.max_size_px = x;
+    else if (k == "glook_pts") o.group_look.min_points = static_cast<int>(x);
+    else if (k == "glook_win") o.group_look.min_window_px = x;
+    else if (k == "glook_n") o.group_look.max_windows = static_cast<int>(x);
     else if (k == "lowc") o.threshold_quads.low_contrast.enabled = x != 0;
     else if (k == "lowc_contrast") o.threshold_quads.low_contrast.min_contrast = static_cast<float>(x);
     else if (k == "lowc_max") o.threshold_quads.low_contrast.max_size_px = x;

@@ -179,6 +179,28 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                              trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family, &opt_.soft_decode);
     if (trace) trace->quads.insert(trace->quads.end(), again.begin(), again.end());
     decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
+    if (opt_.group_look.enabled && !opt_.half_resolution) {  // group_look.hpp: groups that gave no quad
+      // Covered: the quads decoded, those the second look saw (up to its size) and its new ones.
+      std::vector<Quad> covered;
+      for (std::size_t i = 0; i < look.size(); ++i) {
+        const Corners& c = found.quads[i].corners;
+        double lo_x = c[0].x(), hi_x = lo_x, lo_y = c[0].y(), hi_y = lo_y;
+        for (const auto& p : c) lo_x = std::min(lo_x, p.x()), hi_x = std::max(hi_x, p.x()), lo_y = std::min(lo_y, p.y()), hi_y = std::max(hi_y, p.y());
+        if (!look[i] || std::max(hi_x - lo_x, hi_y - lo_y) <= opt_.second_look.max_size_px) covered.push_back(found.quads[i]);
+      }
+      covered.insert(covered.end(), again.begin(), again.end());
+      const std::vector<Quad> windows =
+          group_look_windows(workspace.impl().threshold_quads.groups, covered, gray.width, gray.height, opt_.group_look);
+      SecondLookOptions sl = opt_.second_look;
+      sl.max_size_px = HUGE_VAL, sl.margin_px = 0, sl.inside_only = false;
+      const std::vector<Quad> found_again =
+          second_look_quads(gray, windows, std::vector<bool>(windows.size(), true), opt_.threshold_quads, sl);
+      auto more2 = decode_quads(*found.decode_image, found_again, families_, opt_.max_hamming, opt_.payload,
+                                opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area : nullptr,
+                                trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family, &opt_.soft_decode);
+      if (trace) trace->quads.insert(trace->quads.end(), found_again.begin(), found_again.end());
+      decoded.insert(decoded.end(), std::make_move_iterator(more2.begin()), std::make_move_iterator(more2.end()));
+    }
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   drop_below_margin(out, opt_.min_decision_margin);

@@ -36,6 +36,7 @@
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
+#include "group_look.hpp"
 #include "second_look.hpp"
 #include "segmentation.hpp"
 #include "soft_decode.hpp"
@@ -147,6 +148,16 @@ struct DetectorOptions {
   // (200 frames, seed 1): 20-24 px tags 134 -> 146 of 188, all sizes 925 -> 970 of 1384, no wrong id;
   // time / libapriltag d1 on 300 corpus images 0.64 -> 0.69 (issue 17, session 8).
   SecondLookOptions second_look = default_profile_second_look();
+  // Beyond the paper: boundary groups of tag size that gave no quad, each a window classed by one
+  // (Otsu) threshold and fitted anew like the second look (group_look.hpp; quad_finder kThreshold,
+  // full resolution only; uses second_look's min_class_gap, min_corner_change_px). paper(): off, and
+  // off in the default profile too (issue 17, session 10): realistic set (200 frames, seed 1) 20-24 px
+  // 156 -> 156 of 188, all sizes 1005 -> 1009 of 1384 (1011 with windows up to 64 px, min_window_px 40),
+  // no wrong id, no false detection. Not worth its cost: even a window centred on the TRUE tag (1.6 x
+  // its size) classed by one Otsu threshold yields a matching quad for 19 of the 164 readable tags
+  // without a candidate, 0 of the 20 at 20-24 px (1 with a 1 px blur first): at those contrasts no
+  // single threshold gives the square's outline (bench/experiments/candidate_loss, session 10).
+  GroupLookOptions group_look;
   // Beyond the paper: a quad whose reading no family decodes within its corrected bits is decoded
   // soft (soft_decode.hpp): the codeword likeliest under the cells' signed confidences, accepted only
   // by a likelihood-ratio rule calibrated to give no false detection of 36h11 on the corpus, and only

@@ -159,6 +159,7 @@ DetectorOptions DetectorOptions::paper() {
   o.photometric_guard.enabled = false;
   o.pose_choice.enabled = false;
   o.second_look.enabled = false;
+  o.group_look.enabled = false;
   o.soft_decode.enabled = false;
   o.threshold_quads.low_contrast.enabled = false;
   return o;
@@ -231,6 +232,12 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("second_look.margin_px", second_look.margin_px, 0);
   within("second_look.min_class_gap", second_look.min_class_gap, 0, 1);
   finite_at_least("second_look.min_corner_change_px", second_look.min_corner_change_px, 0);
+  finite_at_least("group_look.min_size_px", group_look.min_size_px, 0);
+  finite_above("group_look.max_size_px", group_look.max_size_px, 0);
+  finite_above("group_look.min_window_px", group_look.min_window_px, 0);
+  finite_at_least("group_look.margin_px", group_look.margin_px, 0);
+  if (group_look.min_points < 1) fail("group_look.min_points", static_cast<long long>(group_look.min_points), "must be >= 1");
+  if (group_look.max_windows < 0) fail("group_look.max_windows", static_cast<long long>(group_look.max_windows), "must be >= 0");
   finite_at_least("photometric_guard.max_kink_px", photometric_guard.max_kink_px, 0);
   finite_at_least("photometric_guard.max_blur_px", photometric_guard.max_blur_px, 0);
   finite_at_least("photometric_guard.min_kink_significance", photometric_guard.min_kink_significance, 0);

@@ -64,6 +64,7 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   EXPECT_TRUE(d.hamming_by_family);
   EXPECT_EQ(p.seg_sigma, 0.8);
   EXPECT_FALSE(p.second_look.enabled);
+  EXPECT_FALSE(p.group_look.enabled);
   EXPECT_TRUE(d.second_look.enabled);
   EXPECT_FALSE(p.soft_decode.enabled);
   EXPECT_TRUE(d.soft_decode.enabled);
