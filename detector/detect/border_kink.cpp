@@ -15,10 +15,10 @@ struct Scan {
   double offset, sigma;
 };
 
-// The steps of one scan: offsets t along the normal and the sample offsets t + h, t - h.
+// The steps of one scan: offsets t along the normal; the samples are taken at t + h and t - h.
 struct ScanSteps {
-  std::vector<double> t, hi, lo;  // t, t + h, t - h
-  std::vector<int> lo_from;       // j - m where the sample at t - h is the one at t + h of step j - m, else -1
+  std::vector<double> t;
+  std::size_t m = 0;              // 2 h / step: the sample at t - h of step j may be the one at t + h of step j - m
   double lo_end = 0, hi_end = 0;  // the smallest and largest offset sampled
   double centre = NAN, range = NAN;  // what they were made for (NaN: nothing yet)
 };
@@ -36,14 +36,13 @@ const ScanSteps& scan_steps(double centre, double range, const BorderKinkOptions
   const double h = opt.derivative_half_px;
   s.t.clear();
   for (double t = centre - range; t <= centre + range + 1e-9; t += opt.step_px) s.t.push_back(t);
-  const std::size_t n = s.t.size(), m = static_cast<std::size_t>(std::max(0L, std::lround(2 * h / opt.step_px)));
-  s.hi.resize(n), s.lo.resize(n), s.lo_from.resize(n);
+  s.m = static_cast<std::size_t>(std::max(0L, std::lround(2 * h / opt.step_px)));
+  // t only grows (t += step, step > 0), and so, rounded, do t - h and t + h: the first step holds the
+  // smallest offset sampled and the last the largest (the same doubles as a min/max over every step).
   double lo_end = HUGE_VAL, hi_end = -HUGE_VAL;
-  for (std::size_t j = 0; j < n; ++j) {
-    const double t = s.t[j];
-    s.hi[j] = t + h, s.lo[j] = t - h;
-    lo_end = std::min({lo_end, t - h, t + h}), hi_end = std::max({hi_end, t - h, t + h});
-    s.lo_from[j] = m >= 1 && j >= m && s.t[j - m] + h == t - h ? static_cast<int>(j - m) : -1;
+  if (!s.t.empty()) {
+    lo_end = std::min(s.t.front() - h, s.t.front() + h);
+    hi_end = std::max(s.t.back() - h, s.t.back() + h);
   }
   s.lo_end = lo_end, s.hi_end = hi_end, s.centre = centre, s.range = range;
   return s;
@@ -67,13 +66,17 @@ std::optional<Scan> scan_edge(const ImageF& img, const Eigen::Vector2d& p, const
   if (img.empty() || !inside(p + steps.lo_end * n) || !inside(p + steps.hi_end * n)) return std::nullopt;
   scratch.value.resize(ns);
   float* value = scratch.value.data();
-  const double *ts = steps.t.data(), *thi = steps.hi.data(), *tlo = steps.lo.data();
-  const int* from = steps.lo_from.data();
+  const double* ts = steps.t.data();
+  const std::size_t m = steps.m;
+  // The samples at t + h and at t - h each step a quarter pixel along the scan: each keeps its 2 x 2
+  // pixels (BilinearCell: the same value, the pixels read again only when the cell changes).
+  BilinearCell cell_hi, cell_lo;
   double sw = 0, st = 0, stt = 0;
   for (std::size_t j = 0; j < ns; ++j) {
     const double t = ts[j];
-    const float hi = value[j] = sample_bilinear_inside(img, p + thi[j] * n);
-    const float lo = from[j] >= 0 ? value[from[j]] : sample_bilinear_inside(img, p + tlo[j] * n);
+    const float hi = value[j] = sample_bilinear_inside(img, p + (t + h) * n, cell_hi);
+    const float lo = m >= 1 && j >= m && ts[j - m] + h == t - h ? value[j - m]
+                                                                 : sample_bilinear_inside(img, p + (t - h) * n, cell_lo);
     const double g = hi - lo;
     if (g <= 0) continue;
     sw += g * g, st += g * g * t, stt += g * g * t * t;
