@@ -169,38 +169,23 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                   opt_.hamming_by_family, opt_.payload_area, opt_.payload.min_contrast, opt_.bent);
     decoded.insert(decoded.end(), std::make_move_iterator(bent.begin()), std::make_move_iterator(bent.end()));
   }
+  // Quads found after the first decoding (the second look, the group look), decoded and traced alike.
+  const auto decode_more = [&](const std::vector<Quad>& quads) {
+    auto more = decode_quads(*found.decode_image, quads, families_, opt_.max_hamming, opt_.payload,
+                             opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area : nullptr,
+                             trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family, &opt_.soft_decode);
+    if (trace) trace->quads.insert(trace->quads.end(), quads.begin(), quads.end());
+    decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
+  };
   if (second_look) {  // second_look.hpp: the quads that did not decode, looked at again
     std::vector<bool> look(found.quads.size());
     for (std::size_t i = 0; i < look.size(); ++i)
       look[i] = (*outcomes)[first_outcome + i].fate != QuadOutcome::Fate::kDecoded;
     const std::vector<Quad> again = second_look_quads(gray, found.quads, look, opt_.threshold_quads, opt_.second_look);
-    auto more = decode_quads(*found.decode_image, again, families_, opt_.max_hamming, opt_.payload,
-                             opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area : nullptr,
-                             trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family, &opt_.soft_decode);
-    if (trace) trace->quads.insert(trace->quads.end(), again.begin(), again.end());
-    decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
-    if (opt_.group_look.enabled && !opt_.half_resolution) {  // group_look.hpp: groups that gave no quad
-      // Covered: the quads decoded, those the second look saw (up to its size) and its new ones.
-      std::vector<Quad> covered;
-      for (std::size_t i = 0; i < look.size(); ++i) {
-        const Corners& c = found.quads[i].corners;
-        double lo_x = c[0].x(), hi_x = lo_x, lo_y = c[0].y(), hi_y = lo_y;
-        for (const auto& p : c) lo_x = std::min(lo_x, p.x()), hi_x = std::max(hi_x, p.x()), lo_y = std::min(lo_y, p.y()), hi_y = std::max(hi_y, p.y());
-        if (!look[i] || std::max(hi_x - lo_x, hi_y - lo_y) <= opt_.second_look.max_size_px) covered.push_back(found.quads[i]);
-      }
-      covered.insert(covered.end(), again.begin(), again.end());
-      const std::vector<Quad> windows =
-          group_look_windows(workspace.impl().threshold_quads.groups, covered, gray.width, gray.height, opt_.group_look);
-      SecondLookOptions sl = opt_.second_look;
-      sl.max_size_px = HUGE_VAL, sl.margin_px = 0, sl.inside_only = false;
-      const std::vector<Quad> found_again =
-          second_look_quads(gray, windows, std::vector<bool>(windows.size(), true), opt_.threshold_quads, sl);
-      auto more2 = decode_quads(*found.decode_image, found_again, families_, opt_.max_hamming, opt_.payload,
-                                opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area : nullptr,
-                                trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family, &opt_.soft_decode);
-      if (trace) trace->quads.insert(trace->quads.end(), found_again.begin(), found_again.end());
-      decoded.insert(decoded.end(), std::make_move_iterator(more2.begin()), std::make_move_iterator(more2.end()));
-    }
+    decode_more(again);
+    if (opt_.group_look.enabled && !opt_.half_resolution)  // group_look.hpp: groups that gave no quad
+      decode_more(group_look_quads(gray, workspace.impl().threshold_quads.groups, found.quads, look, again,
+                                   opt_.threshold_quads, opt_.second_look, opt_.group_look));
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   drop_below_margin(out, opt_.min_decision_margin);

@@ -54,4 +54,20 @@ std::vector<Quad> group_look_windows(const BoundaryGroups& groups, std::span<con
   return out;
 }
 
+std::vector<Quad> group_look_quads(const ImageF& gray, const BoundaryGroups& groups, std::span<const Quad> quads,
+                                   const std::vector<bool>& looked, std::span<const Quad> again,
+                                   const ThresholdQuadOptions& threshold, const SecondLookOptions& second,
+                                   const GroupLookOptions& opt) {
+  std::vector<Quad> covered;
+  for (std::size_t i = 0; i < quads.size(); ++i) {
+    const Box b = box_of(quads[i].corners);
+    if (!looked[i] || std::max(b.x1 - b.x0, b.y1 - b.y0) <= second.max_size_px) covered.push_back(quads[i]);
+  }
+  covered.insert(covered.end(), again.begin(), again.end());
+  const std::vector<Quad> windows = group_look_windows(groups, covered, gray.width, gray.height, opt);
+  SecondLookOptions whole = second;  // a window is looked at whole, whatever its size
+  whole.max_size_px = HUGE_VAL, whole.margin_px = 0, whole.inside_only = false;
+  return second_look_quads(gray, windows, std::vector<bool>(windows.size(), true), threshold, whole);
+}
+
 }  // namespace tagbench

@@ -16,7 +16,10 @@
 #include <vector>
 
 #include "boundaries.hpp"
+#include "image.hpp"
 #include "quad_search.hpp"
+#include "second_look.hpp"
+#include "threshold_quads.hpp"
 
 namespace tagbench {
 
@@ -34,5 +37,14 @@ struct GroupLookOptions {
 // to [0, width-1] x [0, height-1]) for the groups of `groups` that no quad of `found` covers.
 std::vector<Quad> group_look_windows(const BoundaryGroups& groups, std::span<const Quad> found, int width, int height,
                                      const GroupLookOptions& opt);
+
+// The group look's new quads on `gray`: the windows of the groups that none of these covers: the
+// quads of the main pass that decoded (looked[i] false), those the second look saw (looked[i] and
+// at most second.max_size_px across) and the second look's quads `again`; each window classed by
+// second_look_quads (one Otsu threshold, the stage's components, boundaries, fit and refinement).
+std::vector<Quad> group_look_quads(const ImageF& gray, const BoundaryGroups& groups, std::span<const Quad> quads,
+                                   const std::vector<bool>& looked, std::span<const Quad> again,
+                                   const ThresholdQuadOptions& threshold, const SecondLookOptions& second,
+                                   const GroupLookOptions& opt);
 
 }  // namespace tagbench
