@@ -5,30 +5,14 @@
 
 #include "detect/detector.hpp"
 #include "detect/second_look.hpp"
+#include "card_scene.hpp"
 
 using namespace tagbench;
 
 namespace {
-// A dark ground, a lighter card, on it a dark square of pixels [s0, s0 + n) on both axes: the square's
-// edges lie at s0 - 0.5 and s0 + n - 0.5 (pixel centres at integers).
-ImageF card_scene(float ground, float card, float ink, int card0, int card_n, int s0, int n) {
-  ImageF img(80, 80, ground);
-  for (int y = card0; y < card0 + card_n; ++y)
-    for (int x = card0; x < card0 + card_n; ++x) img.at(x, y) = card;
-  for (int y = s0; y < s0 + n; ++y)
-    for (int x = s0; x < s0 + n; ++x) img.at(x, y) = ink;
-  return img;
-}
-Quad square_quad(double lo, double hi) {
-  Quad q;
-  q.corners = {Eigen::Vector2d(lo, lo), Eigen::Vector2d(hi, lo), Eigen::Vector2d(hi, hi), Eigen::Vector2d(lo, hi)};
-  return q;
-}
-double worst_corner_error(const Corners& found, const Corners& want) {
-  double best = HUGE_VAL;
-  for (int s = 0; s < 4; ++s) best = std::min(best, max_corner_distance(want, found, s));
-  return best;
-}
+using tagbench::test_scenes::card_scene;
+using tagbench::test_scenes::square_quad;
+using tagbench::test_scenes::worst_corner_error;
 }  // namespace
 
 TEST(SecondLook, OtsuSplitsTwoLevelsBetweenThem) {
