@@ -272,7 +272,35 @@ def realistic_table(d):
     return table(["Black square", "Tags"] + [RT_NAMES.get(x, x) for x in dets], body)
 
 
-BLOCKS = {"pending": pending, "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
+def realistic_seed2_table(d):
+    """The held-out set (realistic, seed 2; results/realistic_seed2/): per size bin, the tags, how many the
+    payload readers decode through the true corners (--ceiling) and each detector's rate % [Wilson 95 %]."""
+    sub = os.path.join(d, "realistic_seed2")
+    summary = rows(os.path.join(sub, "realistic_summary.csv"))
+    ceiling = {r["size_bin"]: r for r in rows(os.path.join(sub, "realistic_ceiling_summary.csv"))
+               if r["contrast_band"] == "all"}
+    bins, dets = [], _detectors(summary)
+    for r in summary:
+        if r["size_bin"] not in bins:
+            bins.append(r["size_bin"])
+    body = []
+    for b in bins:
+        sel = {r["detector"]: r for r in summary if r["size_bin"] == b}
+        tags = int(next(iter(sel.values()))["tags"])
+        c = ceiling.get(b)
+        row = [f"{b} px" if b != "all" else "all", str(tags),
+               f'{100 * int(c["ceiling_either"]) / tags:.0f}' if c else "-"]
+        for det in dets:
+            r = sel[det]
+            row.append(f'{100 * float(r["detection_rate"]):.0f} [{100 * float(r["rate_lo95"]):.0f}-'
+                       f'{100 * float(r["rate_hi95"]):.0f}]' + (f', {r["wrong_id_tags"]} wrong id'
+                                                                   if r["wrong_id_tags"] not in ("0", "") else "")
+                       + (f', {r["false_detections"]} false' if r["false_detections"] != "0" else ""))
+        body.append(row)
+    return table(["Black square", "Tags", "Readable from the true corners"] + [RT_NAMES.get(x, x) for x in dets], body)
+
+
+BLOCKS = {"pending": pending, "realistic_seed2_table": realistic_seed2_table, "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
           "loss_realistic": loss_realistic, "issue17_targets": issue17_targets, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
           "raytrace_external_claims": raytrace_external_claims,

@@ -18,12 +18,17 @@
 // (|nowin, |win_fail: its one-threshold look finds no matching quad, |win_found), whether an "oracle"
 // window centred on the true tag, 1.6 x its size, finds it (oracle_ok / oracle_fail), and the same on
 // the image blurred by 0.7 / 1.0 px (b7ok / b10ok).
+// Session 11 appends the same oracle window classed against its local mean (threshold.hpp's
+// mean_sigma rule; m15 / m25 / m40: sigma 1.5 / 2.5 / 4 px, dead zone 2/255; m25x2: upsampled 2x first;
+// m25d5: dead zone 5/255), given to the paper's gradient quads at 1x / 2x (g1ok / g2ok), and to the
+// threshold stage upsampled 2x (t2ok). CL_DEBUG=1 prints each mean look's groups, quads and best match.
 //
 //   candidate_loss FRAMES CEILING_CSV [KEY=V ...]   (KEY=V: the detector variant keys of tagbench raytrace)
 // Prints one line per lost tag and the counts per class and size bin (an experiment log, not a results/ CSV).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <set>
@@ -37,6 +42,8 @@
 #include "detect/detector.hpp"
 #include "detect/detector_opencv.hpp"
 #include "detect/explain_loss.hpp"
+#include "detect/find_quads_in_image.hpp"
+#include <opencv2/imgproc.hpp>
 #include "detect/homography.hpp"
 #include "detect/blur.hpp"
 #include "detect/group_look.hpp"
@@ -303,6 +310,88 @@ int main(int argc, char** argv) {
         const bool o7 = finds({oracle}, &b7), o10 = finds({oracle}, &b10);
         dg.cls += std::string(hold.empty() ? " |nowin" : got ? " |win_found" : " |win_fail") + (ora ? " oracle_ok" : " oracle_fail");
         dg.cls += std::string(o7 ? " b7ok" : " b7no") + (o10 ? " b10ok" : " b10no");
+        // Session 11: the oracle window upsampled by `up` and given to the paper's gradient quads
+        // (g1/g2) or the threshold stage (t2); quads mapped back to the frame.
+        auto window_finds = [&](int up, bool gradient) {
+          const int wx0 = std::max(0, static_cast<int>(c.x() - half)), wy0 = std::max(0, static_cast<int>(c.y() - half));
+          const int wx1 = std::min(img.width - 1, static_cast<int>(c.x() + half) + 1);
+          const int wy1 = std::min(img.height - 1, static_cast<int>(c.y() + half) + 1);
+          cv::Mat win(wy1 - wy0 + 1, wx1 - wx0 + 1, CV_32F);
+          for (int y = wy0; y <= wy1; ++y)
+            for (int x = wx0; x <= wx1; ++x) win.at<float>(y - wy0, x - wx0) = img.at(x, y);
+          cv::Mat big;
+          cv::resize(win, big, cv::Size(), up, up, up == 1 ? cv::INTER_NEAREST : cv::INTER_CUBIC);
+          ImageF w(big.cols, big.rows);
+          for (int y = 0; y < big.rows; ++y)
+            for (int x = 0; x < big.cols; ++x) w.at(x, y) = big.at<float>(y, x);
+          std::vector<Quad> qs;
+          if (gradient) {
+            DetectorOptions p = DetectorOptions::paper();
+            DetectorWorkspace dw;
+            qs = find_quads_in_image(w, p, dw).quads;
+          } else {
+            ThresholdQuadWorkspace tw;
+            ThresholdQuadOptions tq = opt.threshold_quads;
+            tq.fit.min_tag_width *= up;
+            find_threshold_quads(w, tq, tw, qs);
+          }
+          double best = HUGE_VAL;
+          for (Quad q : qs) {
+            for (auto& p : q.corners) p = Eigen::Vector2d(wx0 + (p.x() + 0.5) / up - 0.5, wy0 + (p.y() + 0.5) / up - 0.5);
+            best = std::min(best, best_match(q.corners, tag.corners));
+          }
+          return best <= tol;
+        };
+        // Local-mean classing: light where I - G_sigma*I > delta, dark where < -delta, else unknown.
+        auto mean_finds = [&](double sigma, float delta, int up) {
+          const int m = 6;
+          const int wx0 = std::max(0, static_cast<int>(c.x() - half) - m), wy0 = std::max(0, static_cast<int>(c.y() - half) - m);
+          const int wx1 = std::min(img.width - 1, static_cast<int>(c.x() + half) + 1 + m);
+          const int wy1 = std::min(img.height - 1, static_cast<int>(c.y() + half) + 1 + m);
+          cv::Mat win(wy1 - wy0 + 1, wx1 - wx0 + 1, CV_32F);
+          for (int y = wy0; y <= wy1; ++y)
+            for (int x = wx0; x <= wx1; ++x) win.at<float>(y - wy0, x - wx0) = img.at(x, y);
+          if (up > 1) cv::resize(win, win, cv::Size(), up, up, cv::INTER_CUBIC);
+          cv::Mat mean;
+          cv::GaussianBlur(win, mean, cv::Size(0, 0), sigma * up);
+          ImageF roi(win.cols, win.rows);
+          TernaryImage tern;
+          tern.width = win.cols, tern.height = win.rows;
+          tern.data.resize(roi.data.size());
+          for (int y = 0; y < win.rows; ++y)
+            for (int x = 0; x < win.cols; ++x) {
+              const float v = win.at<float>(y, x), d = v - mean.at<float>(y, x);
+              roi.at(x, y) = v;
+              tern.data[static_cast<std::size_t>(y) * win.cols + x] = d > delta ? kTernaryLight : d < -delta ? kTernaryDark : kTernaryUnknown;
+            }
+          ComponentScratch cs;
+          Components comp;
+          BoundaryScratch bs;
+          BoundaryGroups groups;
+          QuadFitScratch fs;
+          EdgeRefineScratch rs;
+          std::vector<Quad> qs;
+          connected_components(tern, cs, comp, opt.threshold_quads.dark_eight_connected);
+          group_boundaries(tern, comp, opt.threshold_quads.boundaries, bs, groups);
+          QuadFitOptions fo = opt.threshold_quads.fit;
+          fo.min_tag_width *= up;
+          fit_quads(groups, roi, fo, fs, qs);
+          double best = HUGE_VAL;
+          for (Quad q : qs) {
+            for (auto& p : q.corners) p = Eigen::Vector2d(wx0 + (p.x() + 0.5) / up - 0.5, wy0 + (p.y() + 0.5) / up - 0.5);
+            if (const auto r = refine_quad_edges(img, q.corners, opt.threshold_quads.refine, rs)) q.corners = *r;
+            best = std::min(best, best_match(q.corners, tag.corners));
+          }
+          if (std::getenv("CL_DEBUG"))
+            std::fprintf(stderr, "mean sigma %.1f up %d: %zu groups %zu quads best %.2f tol %.2f\n", sigma, up, groups.count(),
+                         qs.size(), best, tol);
+          return best <= tol;
+        };
+        dg.cls += std::string(mean_finds(1.5, 2.0f / 255, 1) ? " m15" : " --") + (mean_finds(2.5, 2.0f / 255, 1) ? " m25" : " --") +
+                  (mean_finds(4, 2.0f / 255, 1) ? " m40" : " --") + (mean_finds(2.5, 2.0f / 255, 2) ? " m25x2" : " --") +
+                  (mean_finds(2.5, 5.0f / 255, 1) ? " m25d5" : " --");
+        dg.cls += std::string(window_finds(1, true) ? " g1ok" : " g1no") + (window_finds(2, true) ? " g2ok" : " g2no") +
+                  (window_finds(2, false) ? " t2ok" : " t2no");
       }
       std::printf("frame %d tag %zu id %d px %.1f tilt %.0f ink %.2f paper %.2f light %.2f blur %.2f: %s  %s\n", fi, ti,
                   tag.id, tag.black_square_px, tag.tilt_deg, tag.ink, tag.paper, tag.light, f.degradation.blur_sigma_px,

@@ -48,6 +48,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "contrast") o.threshold_quads.threshold.min_contrast = static_cast<float>(x);
     else if (k == "low_contrast") o.threshold_quads.threshold.low_contrast = static_cast<float>(x);
     else if (k == "weber") o.threshold_quads.threshold.weber_ratio = static_cast<float>(x);
+    else if (k == "tmean") o.threshold_quads.threshold.mean_sigma = static_cast<float>(x);
     else if (k == "minpix") o.threshold_quads.boundaries.min_component_pixels = static_cast<std::uint32_t>(x);
     else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
     else if (k == "margin") o.min_decision_margin = x;

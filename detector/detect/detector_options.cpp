@@ -61,6 +61,7 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   within("threshold_quads.threshold.min_contrast", q.threshold.min_contrast, 0, 1);
   within("threshold_quads.threshold.low_contrast", q.threshold.low_contrast, 0, 1);
   finite_at_least("threshold_quads.threshold.weber_ratio", q.threshold.weber_ratio, 0);
+  finite_at_least("threshold_quads.threshold.mean_sigma", q.threshold.mean_sigma, 0);
   int_within("threshold_quads.boundaries.min_component_pixels", q.boundaries.min_component_pixels, 1,
              kMaxPixelsCeiling);
   int_within("threshold_quads.fit.min_points", q.fit.min_points, 4, kMaxPixelsCeiling);

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "detect/blur.hpp"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -107,6 +109,8 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
   if (!(opt.low_contrast >= 0) || !std::isfinite(opt.low_contrast) || !(opt.weber_ratio >= 0) ||
       !std::isfinite(opt.weber_ratio))
     throw std::invalid_argument("threshold low_contrast and weber_ratio must be finite and >= 0");
+  if (!(opt.mean_sigma >= 0) || !std::isfinite(opt.mean_sigma))
+    throw std::invalid_argument("threshold mean_sigma must be finite and >= 0");
   const int w = img.width, h = img.height, t = opt.tile_size;
   out.width = w;
   out.height = h;
@@ -142,6 +146,8 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
   s.flat.resize(s.mid.size());
   s.tile_mid.resize(static_cast<std::size_t>(tw));
   s.tile_flat.resize(static_cast<std::size_t>(tw));
+  const bool by_mean = opt.mean_sigma > 0;
+  if (by_mean) gaussian_blur(img, opt.mean_sigma, s.mean_tmp, s.mean);
   float* mid = s.mid.data();
   std::uint8_t* flat = s.flat.data();
   for (int ty = 0; ty < th; ++ty) {
@@ -182,6 +188,8 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
     for (int y = ty * t, ye = std::min(h, y + t); y < ye; ++y) {
       const float* row = img.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
       std::uint8_t* o = out.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+      // The threshold of this row: the tile midpoints, or the local mean's own row.
+      const float* thr = by_mean ? s.mean.data.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w) : s.mid.data();
       int x = 0;
 #if defined(__SSE2__)
       // 16 pixels at a time: four float comparisons packed to bytes (all-ones light, zero dark,
@@ -190,7 +198,7 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
       for (; x + 16 <= w; x += 16) {
         __m128i c[4];
         for (int k = 0; k < 4; ++k)
-          c[k] = _mm_castps_si128(_mm_cmpgt_ps(_mm_loadu_ps(row + x + 4 * k), _mm_loadu_ps(mid + x + 4 * k)));
+          c[k] = _mm_castps_si128(_mm_cmpgt_ps(_mm_loadu_ps(row + x + 4 * k), _mm_loadu_ps(thr + x + 4 * k)));
         const __m128i cls = _mm_packs_epi16(_mm_packs_epi32(c[0], c[1]), _mm_packs_epi32(c[2], c[3]));
         const __m128i f = _mm_loadu_si128(reinterpret_cast<const __m128i*>(flat + x));
         const __m128i o16 = _mm_or_si128(_mm_andnot_si128(f, cls), _mm_and_si128(f, _mm_set1_epi8(static_cast<char>(kTernaryUnknown))));
@@ -199,7 +207,7 @@ void adaptive_threshold(const ImageF& img, const ThresholdOptions& opt, Threshol
 #endif
       for (; x < w; ++x) {
         // Light 255, dark 0; a flat column's 0xFF mask turns either into 127 (kTernaryUnknown).
-        const std::uint8_t cls = row[x] > mid[x] ? kTernaryLight : kTernaryDark;
+        const std::uint8_t cls = row[x] > thr[x] ? kTernaryLight : kTernaryDark;
         o[x] = static_cast<std::uint8_t>((cls & ~flat[x]) | (kTernaryUnknown & flat[x]));
       }
     }

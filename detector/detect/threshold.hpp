@@ -39,6 +39,11 @@ struct ThresholdOptions {
   // Off when low_contrast >= min_contrast (the default), i.e. max - min < min_contrast is flat.
   float low_contrast = 20.0f / 255.0f;  // absolute floor of the relative test, >= 0
   float weber_ratio = 0.0f;             // (max - min) / max at least this, >= 0
+  // The classing rule where the neighbourhood is not flat: 0 = against the midpoint of its min and
+  // max (AprilTag 2/3); > 0 = against the local mean, the image blurred by a Gaussian of this sigma
+  // (px). A 2-3 px white ring between a dark card and the black border of a small tag is lighter than
+  // its local mean even when brighter ground a few pixels away lifts the midpoint above it.
+  float mean_sigma = 0.0f;
 };
 
 // The classed image: one byte a pixel, values kTernaryDark, kTernaryLight or kTernaryUnknown.
@@ -55,6 +60,7 @@ struct ThresholdScratch {
   std::vector<float> tile_min, tile_max, tmp_min, tmp_max;
   std::vector<float> tile_mid, mid;             // per tile, per column of the current tile row: the threshold
   std::vector<std::uint8_t> tile_flat, flat;    // per tile, per column: 0xFF where the tile is flat, else 0
+  ImageF mean, mean_tmp;                        // ThresholdOptions::mean_sigma > 0: the local mean
 };
 
 // Classes every pixel of `img` into `out` (resized; storage reused). Throws std::invalid_argument

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "detect/blur.hpp"
 #include "detect/threshold.hpp"
 #include "synthetic.hpp"
 
@@ -188,4 +189,38 @@ TEST(Threshold, RelativeFloorEqualsItsDefinitionOnRandomImages) {
       }
     EXPECT_GT(relative, 0) << "tile " << t;  // the relative floor decided some pixels
   }
+}
+
+// The local-mean rule (ThresholdOptions::mean_sigma): a 3 px light ring between a dark border and a
+// dark card, bright ground 2 px beyond the card. Against the window's midpoint the ring is dark (the
+// ground sets the maximum); against the local mean it is light. Flatness is still the tiles'.
+TEST(Threshold, LocalMeanRuleKeepsAThinRingLightNextToBrighterGround) {
+  const int w = 40, h = 12;
+  ImageF img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      img.at(x, y) = x < 10 ? 0.15f : x < 13 ? 0.45f : x < 15 ? 0.25f : 0.95f;  // border, ring 10-12, card, ground
+  ThresholdOptions opt;
+  const TernaryImage mid = adaptive_threshold(img, opt);
+  opt.mean_sigma = 1.5f;
+  const TernaryImage mean = adaptive_threshold(img, opt);
+  for (int y = 0; y < h; ++y) {
+    EXPECT_EQ(mid.at(12, y), kTernaryDark);    // the ring's outer pixel (its window x 10-15 sees the ground)
+    EXPECT_EQ(mean.at(12, y), kTernaryLight);  // under the mean rule light
+    EXPECT_EQ(mean.at(8, y), kTernaryDark);    // the border stays dark
+    EXPECT_EQ(mean.at(14, y), kTernaryDark);   // the card beside the ground too
+    EXPECT_EQ(mean.at(0, y), kTernaryUnknown); // flat far from any step: unknown under both rules
+    EXPECT_EQ(mean.at(39, y), kTernaryUnknown);
+  }
+  // Against its definition: the image blurred by mean_sigma (blur.hpp), pixel by pixel.
+  const ImageF m = gaussian_blur(img, opt.mean_sigma);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (mid.at(x, y) == kTernaryUnknown) continue;
+      ASSERT_EQ(mean.at(x, y), img.at(x, y) > m.at(x, y) ? kTernaryLight : kTernaryDark) << x << "," << y;
+    }
+  opt.mean_sigma = -1;
+  EXPECT_THROW(adaptive_threshold(img, opt), std::invalid_argument);
+  opt.mean_sigma = std::nanf("");
+  EXPECT_THROW(adaptive_threshold(img, opt), std::invalid_argument);
 }
