@@ -297,7 +297,7 @@ def realistic_seed2_table(d):
                                                                    if r["wrong_id_tags"] not in ("0", "") else "")
                        + (f', {r["false_detections"]} false' if r["false_detections"] != "0" else ""))
         body.append(row)
-    return table(["Black square", "Tags", "Readable from the true corners"] + [RT_NAMES.get(x, x) for x in dets], body)
+    return table(["Black square", "Tags", "Readable from the true corners, %"] + [RT_NAMES.get(x, x) for x in dets], body)
 
 
 BLOCKS = {"pending": pending, "realistic_seed2_table": realistic_seed2_table, "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
