@@ -251,34 +251,13 @@ def margin_findings(d):
     return "\n".join(out)
 
 
-def realistic_table(d):
-    """Per size bin (rows) and detector (columns): detection rate % [Wilson 95 %], from realistic_summary.csv."""
+def _realistic_rates(d, ceiling=False):
+    """Per size bin (rows) and detector (columns) of d/realistic_summary.csv: detection rate % [Wilson 95 %],
+    wrong ids and false detections where there are any; with `ceiling`, a column of the share the payload
+    readers decode through the true corners (d/realistic_ceiling_summary.csv, `realistic --ceiling`)."""
     summary = rows(os.path.join(d, "realistic_summary.csv"))
-    bins, dets = [], _detectors(summary)
-    for r in summary:
-        if r["size_bin"] not in bins:
-            bins.append(r["size_bin"])
-    body = []
-    for b in bins:
-        sel = {r["detector"]: r for r in summary if r["size_bin"] == b}
-        first = next(iter(sel.values()))
-        row = [f"{b} px" if b != "all" else "all", first["tags"]]
-        for det in dets:
-            r = sel[det]
-            row.append(f'{100 * float(r["detection_rate"]):.0f} [{100 * float(r["rate_lo95"]):.0f}-'
-                       f'{100 * float(r["rate_hi95"]):.0f}]' + (f', {r["false_detections"]} false'
-                                                                   if r["false_detections"] != "0" else ""))
-        body.append(row)
-    return table(["Black square", "Tags"] + [RT_NAMES.get(x, x) for x in dets], body)
-
-
-def realistic_seed2_table(d):
-    """The held-out set (realistic, seed 2; results/realistic_seed2/): per size bin, the tags, how many the
-    payload readers decode through the true corners (--ceiling) and each detector's rate % [Wilson 95 %]."""
-    sub = os.path.join(d, "realistic_seed2")
-    summary = rows(os.path.join(sub, "realistic_summary.csv"))
-    ceiling = {r["size_bin"]: r for r in rows(os.path.join(sub, "realistic_ceiling_summary.csv"))
-               if r["contrast_band"] == "all"}
+    reads = {r["size_bin"]: r for r in rows(os.path.join(d, "realistic_ceiling_summary.csv"))
+             if r["contrast_band"] == "all"} if ceiling else {}
     bins, dets = [], _detectors(summary)
     for r in summary:
         if r["size_bin"] not in bins:
@@ -287,17 +266,28 @@ def realistic_seed2_table(d):
     for b in bins:
         sel = {r["detector"]: r for r in summary if r["size_bin"] == b}
         tags = int(next(iter(sel.values()))["tags"])
-        c = ceiling.get(b)
-        row = [f"{b} px" if b != "all" else "all", str(tags),
-               f'{100 * int(c["ceiling_either"]) / tags:.0f}' if c else "-"]
+        row = [f"{b} px" if b != "all" else "all", str(tags)]
+        if ceiling:
+            row.append(f'{100 * int(reads[b]["ceiling_either"]) / tags:.0f}' if b in reads else "-")
         for det in dets:
             r = sel[det]
+            wrong = r.get("wrong_id_tags", "0") or "0"
             row.append(f'{100 * float(r["detection_rate"]):.0f} [{100 * float(r["rate_lo95"]):.0f}-'
-                       f'{100 * float(r["rate_hi95"]):.0f}]' + (f', {r["wrong_id_tags"]} wrong id'
-                                                                   if r["wrong_id_tags"] not in ("0", "") else "")
+                       f'{100 * float(r["rate_hi95"]):.0f}]' + (f", {wrong} wrong id" if wrong != "0" else "")
                        + (f', {r["false_detections"]} false' if r["false_detections"] != "0" else ""))
         body.append(row)
-    return table(["Black square", "Tags", "Readable from the true corners, %"] + [RT_NAMES.get(x, x) for x in dets], body)
+    head = ["Black square", "Tags"] + (["Readable from the true corners, %"] if ceiling else [])
+    return table(head + [RT_NAMES.get(x, x) for x in dets], body)
+
+
+def realistic_table(d):
+    """The realistic set of make bench (seed 1): rates per size bin and detector."""
+    return _realistic_rates(d)
+
+
+def realistic_seed2_table(d):
+    """The held-out realistic set (seed 2, results/realistic_seed2/): rates and the readers' ceiling."""
+    return _realistic_rates(os.path.join(d, "realistic_seed2"), ceiling=True)
 
 
 BLOCKS = {"pending": pending, "realistic_seed2_table": realistic_seed2_table, "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,

@@ -87,13 +87,10 @@ std::optional<Scan> scan_edge(const ImageF& img, const Eigen::Vector2d& p, const
   return Scan{mean, std::sqrt(std::max(0.0, 2 * var - h * h / 3))};
 }
 
-struct Broken {
-  double a, b, c, s0, ssr, c_var;  // c_var: c's variance per unit residual variance, (A^T A)^-1_cc
-};
+}  // namespace
 
-// o(s) = a + b s + c |s - s0|, least squares, s0 on a grid.
-std::optional<Broken> fit_broken_line(const std::vector<Eigen::Vector2d>& pts, double max_s0) {
-  std::optional<Broken> best;
+std::optional<BrokenLine> fit_broken_line(std::span<const Eigen::Vector2d> pts, double max_s0) {
+  std::optional<BrokenLine> best;
   const int steps = std::max(0, static_cast<int>(std::lround(max_s0 / 0.025)));
   for (int k = -steps; k <= steps; ++k) {
     const double s0 = k * 0.025;
@@ -111,12 +108,10 @@ std::optional<Broken> fit_broken_line(const std::vector<Eigen::Vector2d>& pts, d
       const double e = q.y() - (x(0) + x(1) * q.x() + x(2) * std::abs(q.x() - s0));
       ssr += e * e;
     }
-    if (!best || ssr < best->ssr) best = Broken{x(0), x(1), x(2), s0, ssr, AtA.inverse()(2, 2)};
+    if (!best || ssr < best->ssr) best = BrokenLine{x(0), x(1), x(2), s0, ssr, AtA.inverse()(2, 2)};
   }
   return best;
 }
-
-}  // namespace
 
 std::optional<std::array<SideKink, 4>> measure_border_kinks(const ImageF& img, const Corners& corners,
                                                             const BorderKinkOptions& opt) {

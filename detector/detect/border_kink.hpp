@@ -21,6 +21,7 @@
 // Units: pixels (centres at integer coordinates), intensities in [0, 1] (image.hpp).
 #include <array>
 #include <optional>
+#include <span>
 
 #include <Eigen/Core>
 
@@ -56,6 +57,14 @@ struct SideKink {
 // give no homography or cells_across < 1. `corners` as in Corners (homography.hpp).
 std::optional<std::array<SideKink, 4>> measure_border_kinks(const ImageF& img, const Corners& corners,
                                                             const BorderKinkOptions& opt = {});
+
+// The broken line o(s) = a + b s + c |s - s0| fitted to points (s, o) by least squares, the fold s0 on
+// a grid of 0.025 in [-max_s0, max_s0] (the one of least residual); ssr its residual sum of squares,
+// c_var c's variance per unit residual variance ((A^T A)^-1_cc). nullopt when no s0 gives a finite fit.
+struct BrokenLine {
+  double a = 0, b = 0, c = 0, s0 = 0, ssr = 0, c_var = 0;
+};
+std::optional<BrokenLine> fit_broken_line(std::span<const Eigen::Vector2d> pts, double max_s0);
 
 // The largest |kink_px| of the valid sides (0 when none is valid), and the median blur of the valid sides.
 double max_kink_px(const std::array<SideKink, 4>& sides);

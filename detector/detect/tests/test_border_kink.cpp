@@ -123,30 +123,7 @@ std::optional<std::array<SideKink, 4>> reference_kinks(const ImageF& img, const 
       blur.push_back(e->sigma);
     }
     if (2 * static_cast<int>(pts.size()) < opt.samples) continue;
-    // The broken line, as border_kink.cpp fits it.
-    struct Broken {
-      double a, b, c, s0, ssr, c_var;
-    };
-    std::optional<Broken> best;
-    const int steps = std::max(0, static_cast<int>(std::lround(opt.max_fold_offset / 0.025)));
-    for (int k = -steps; k <= steps; ++k) {
-      const double s0 = k * 0.025;
-      Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
-      for (const auto& q : pts) {
-        const Eigen::Vector3d r(1, q.x(), std::abs(q.x() - s0));
-        AtA += r * r.transpose();
-        Atb += r * q.y();
-      }
-      const Eigen::Vector3d x = AtA.ldlt().solve(Atb);
-      if (!x.allFinite()) continue;
-      double ssr = 0;
-      for (const auto& q : pts) {
-        const double e = q.y() - (x(0) + x(1) * q.x() + x(2) * std::abs(q.x() - s0));
-        ssr += e * e;
-      }
-      if (!best || ssr < best->ssr) best = Broken{x(0), x(1), x(2), s0, ssr, AtA.inverse()(2, 2)};
-    }
+    const auto best = fit_broken_line(pts, opt.max_fold_offset);  // tested alone below
     if (!best) continue;
     SideKink& k = out[i];
     k.valid = true;
@@ -200,4 +177,26 @@ TEST(BorderKink, ScansMatchThePlainReferenceBitForBit) {
     }
   }
   EXPECT_GT(compared, 60);  // most sides measured (some tags reach past the image)
+}
+
+// The broken line alone: exact points of o(s) = a + b s + c |s - s0| with s0 on the grid give the
+// line back with no residual; with no kink the fit says c = 0.
+TEST(BorderKink, BrokenLineFitRecoversAKnownFold) {
+  std::vector<Eigen::Vector2d> pts;
+  for (int k = 0; k <= 20; ++k) {
+    const double s = -1 + 0.1 * k;
+    pts.emplace_back(s, 0.3 - 0.2 * s + 0.8 * std::abs(s - 0.25));
+  }
+  const auto f = fit_broken_line(pts, 0.5);
+  ASSERT_TRUE(f);
+  EXPECT_NEAR(f->a, 0.3, 1e-9);
+  EXPECT_NEAR(f->b, -0.2, 1e-9);
+  EXPECT_NEAR(f->c, 0.8, 1e-9);
+  EXPECT_NEAR(f->s0, 0.25, 1e-12);
+  EXPECT_NEAR(f->ssr, 0, 1e-18);
+  EXPECT_GT(f->c_var, 0);
+  for (auto& p : pts) p.y() = 0.3 - 0.2 * p.x();
+  const auto g = fit_broken_line(pts, 0.5);
+  ASSERT_TRUE(g);
+  EXPECT_NEAR(g->c, 0, 1e-9);
 }
