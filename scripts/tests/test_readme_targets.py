@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """scripts/readme_targets.py's realistic-set rows on small CSVs written here: the 95 % row carries the
 payload readers' ceiling from realistic_ceiling_summary.csv when the run had --ceiling, and nothing
-when it did not.
+when it did not; update_readme.py's table of the held-out seed (results/realistic_seed2/) carries the
+ceiling as a share of each bin's tags.
 Usage: test_readme_targets.py SOURCE_DIR (run by ctest)."""
 import os
 import sys
@@ -10,6 +11,7 @@ import unittest
 
 sys.path.insert(0, os.path.join(sys.argv[1], "scripts"))
 import readme_targets  # noqa: E402
+import update_readme  # noqa: E402
 
 SUMMARY = ("set,seed,family,frames,size_bin,bin_lo_px,bin_hi_px,detector,tags,detected,detection_rate,wrong_id_tags\n"
            "realistic,1,36h11,2,20-24,20,24,tagbench,10,8,0.8,0\n"
@@ -19,6 +21,12 @@ SUMMARY = ("set,seed,family,frames,size_bin,bin_lo_px,bin_hi_px,detector,tags,de
 CEILING = ("set,seed,family,frames,size_bin,contrast_band,tags,ceiling_area,ceiling_point,ceiling_either\n"
            "realistic,1,36h11,2,20-24,<10,3,1,2,2\n"
            "realistic,1,36h11,2,20-24,all,10,8,7,9\n")
+SUMMARY2 = ("set,seed,family,frames,size_bin,detector,tags,detection_rate,rate_lo95,rate_hi95,wrong_id_tags,"
+            "false_detections\n"
+            "realistic,2,36h11,2,20-24,tagbench,10,0.8,0.6,0.9,0,0\n"
+            "realistic,2,36h11,2,20-24,libapriltag-d1,10,0.5,0.3,0.7,1,2\n"
+            "realistic,2,36h11,2,all,tagbench,10,0.8,0.6,0.9,0,0\n"
+            "realistic,2,36h11,2,all,libapriltag-d1,10,0.5,0.3,0.7,1,2\n")
 
 
 def write(d, name, text):
@@ -43,6 +51,19 @@ class RealisticRows(unittest.TestCase):
             write(d, "realistic_summary.csv", SUMMARY)
             rows = readme_targets._realistic(d)
             self.assertEqual(rows[1][1], "80 % (libapriltag d1 50 %)")
+
+
+class HeldOutTable(unittest.TestCase):
+    def test_the_seed2_table_has_the_ceiling_column_and_each_detectors_rate(self):
+        with tempfile.TemporaryDirectory() as d:
+            os.mkdir(os.path.join(d, "realistic_seed2"))
+            write(d, "realistic_seed2/realistic_summary.csv", SUMMARY2)
+            write(d, "realistic_seed2/realistic_ceiling_summary.csv", CEILING)
+            lines = update_readme.realistic_seed2_table(d).splitlines()
+            self.assertIn("Readable from the true corners, %", lines[0])
+            self.assertEqual(len(lines), 4)  # header, rule, 20-24 px, all
+            self.assertTrue(lines[2].startswith("| 20-24 px | 10 | 90 | 80 [60-90] | 50 [30-70], 1 wrong id, 2 false |"), lines[2])
+            self.assertIn("| all | 10 | - |", lines[3])  # no ceiling row for "all" in this CSV
 
 
 if __name__ == "__main__":
