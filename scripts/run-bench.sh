@@ -74,6 +74,7 @@ echo "bench: the realistic image set (small tags, JPEG photographs' camera; issu
 # Where our detectors lost the tags they missed (issue 17, section 2): per distance step and size bin.
 "$PY" scripts/loss_breakdown.py results/fig10_distance_summary.csv --out results/fig10_distance_loss.csv
 "$PY" scripts/loss_breakdown.py results/realistic_summary.csv --out results/realistic_loss.csv
+"$PY" scripts/loss_breakdown.py results/realistic_seed2/realistic_summary.csv --out results/realistic_seed2/realistic_loss.csv
 
 echo "bench: detection peak memory at 640x480, 1920x1080 and 8000x8000" >&2
 # A fresh child process per measurement; making the 8000x8000 scene takes about 3 GB for a moment.
