@@ -5,6 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config git
+  mold  # the linker (CMakeLists.txt, TAGBENCH_MOLD): make test links ~100 test programs in each tree
   libeigen3-dev
   pybind11-dev python3-dev python3-numpy python3-pil
   libopencv-dev libopencv-contrib-dev
