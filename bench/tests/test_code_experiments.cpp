@@ -8,6 +8,8 @@
 #include "codes/families.hpp"
 #include "generator_speed.hpp"
 
+namespace test_code_experiments {
+
 using namespace tagbench;
 using namespace tagbench::bench;
 
@@ -101,3 +103,5 @@ TEST(GeneratorSpeed, RecordedRunsOfEveryShippedGeneratedFamily) {
   }
   for (const char* f : {"16h5", "25h9", "36h9", "36h10", "36h11", "36h15"}) EXPECT_TRUE(names.count(f)) << f;
 }
+
+}  // namespace test_code_experiments

@@ -11,6 +11,8 @@
 
 #include "run_tagbench.hpp"
 
+namespace test_detect_memory {
+
 namespace fs = std::filesystem;
 using tagbench::testing::shell_quote;
 using tagbench::testing::slurp;
@@ -98,3 +100,5 @@ TEST_F(DetectMemory, BadSizeIsAUsageErrorAndWritesNothing) {
   EXPECT_NE(r.err.find("12xx3"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(csv));
 }
+
+}  // namespace test_detect_memory

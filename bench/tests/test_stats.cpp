@@ -6,6 +6,8 @@
 
 #include "stats.hpp"
 
+namespace test_stats {
+
 using namespace tagbench;
 using namespace tagbench::bench;
 
@@ -62,3 +64,5 @@ TEST(Poisson, ExactIntervalsMatchGarwood) {
   EXPECT_NEAR(big.lo, 1e6 - kZ95 * 1000, 5);
   EXPECT_NEAR(big.hi, 1e6 + kZ95 * 1000, 5);
 }
+
+}  // namespace test_stats

@@ -37,6 +37,8 @@
 
 extern char** environ;
 
+namespace test_bad_input {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -513,3 +515,5 @@ TEST(BadInputTable, IsLargeAndNamesAreUnique) {
 }
 
 }  // namespace
+
+}  // namespace test_bad_input

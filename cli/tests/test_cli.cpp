@@ -20,6 +20,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_cli {
+
 namespace fs = std::filesystem;
 using namespace tagbench;
 
@@ -220,3 +222,5 @@ TEST(Cli, SceneGroundTruthAndDetectAgree) {
   expect_refused("scene -o " + scratch("x.jpg").string(), "written as .png");
   expect_refused("scene --family 36h99 -o " + scratch("y.png").string(), "unknown family '36h99'", scratch("y.png"));
 }
+
+}  // namespace test_cli

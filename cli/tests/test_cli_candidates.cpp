@@ -18,6 +18,8 @@
 
 #include "kill_run.hpp"
 
+namespace test_cli_candidates {
+
 namespace fs = std::filesystem;
 using namespace tagbench;
 using namespace tagbench::corpus;
@@ -166,3 +168,5 @@ TEST(CandidatesCli, AFullDiskLeavesNeitherTheStoreNorItsIndex) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_TRUE(fs::is_empty(out)) << "no store, no index, no temporary";
 }
+
+}  // namespace test_cli_candidates

@@ -25,6 +25,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_cli_detect {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -667,3 +669,5 @@ TEST(CliDetect, BadInputsAndOptionsAreRefusedOnOneLine) {
   ASSERT_EQ(j["images"].size(), 1u);
   EXPECT_EQ(j["images"][0]["detections"][0]["id"].num, 8);
 }
+
+}  // namespace test_cli_detect

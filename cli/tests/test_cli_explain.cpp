@@ -18,6 +18,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_cli_explain {
+
 namespace fs = std::filesystem;
 using namespace tagbench;
 
@@ -119,3 +121,5 @@ TEST(CliExplain, BadPointsAreUsageErrors) {
     EXPECT_TRUE(r.out.empty()) << bad;
   }
 }
+
+}  // namespace test_cli_explain

@@ -16,6 +16,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_cli_realistic {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -130,3 +132,5 @@ TEST(CliRealistic, CeilingWritesARowPerTagAndTheSummary) {
   EXPECT_FALSE(fs::exists(plain / "realistic_ceiling.csv"));
   EXPECT_FALSE(fs::exists(plain / "realistic_ceiling_summary.csv"));
 }
+
+}  // namespace test_cli_realistic

@@ -18,6 +18,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_determinism {
+
 namespace fs = std::filesystem;
 using namespace tagbench::testing;
 
@@ -127,3 +129,5 @@ TEST(Determinism, GenerateGivesTheSameFamilyFileWithOneThreadAndWithFour) {
     }
   }
 }
+
+}  // namespace test_determinism

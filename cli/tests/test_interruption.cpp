@@ -17,6 +17,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_interruption {
+
 namespace fs = std::filesystem;
 using namespace tagbench::testing;
 
@@ -74,3 +76,5 @@ TEST(GenerationInterruption, KilledTwiceOnDifferentThreadCountsResumesToThePubli
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path(), out) << "left beside the family: " << e.path();
 }
+
+}  // namespace test_interruption

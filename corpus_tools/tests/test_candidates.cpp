@@ -15,6 +15,8 @@
 #include "tests/candidate_corpus.hpp"
 #include "tools/atomic_file.hpp"
 
+namespace test_candidates {
+
 namespace fs = std::filesystem;
 using namespace tagbench;
 using namespace tagbench::corpus;
@@ -442,3 +444,5 @@ TEST(CandidateShards, ScannedListingSkipsTheStoresOwnFiles) {
   EXPECT_EQ(imgs[1].file, "sub/corpus_candidates.png");
   EXPECT_EQ(imgs[1].status, "unreadable");
 }
+
+}  // namespace test_candidates

@@ -12,6 +12,8 @@
 #include "sha256.hpp"
 #include "sources.hpp"
 
+namespace test_corpus {
+
 namespace fs = std::filesystem;
 using namespace tagbench::corpus;
 
@@ -111,3 +113,5 @@ TEST(ScanFolder, GoodCorruptAndOtherFiles) {
   EXPECT_THROW(scan_folder(d / "missing"), std::runtime_error);
   fs::remove_all(d);
 }
+
+}  // namespace test_corpus

@@ -23,6 +23,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_corpus_cli {
+
 namespace fs = std::filesystem;
 using namespace tagbench::corpus;
 
@@ -491,3 +493,5 @@ TEST(CorpusCli, MergeAndShardRefusals) {
   refused(cand + " --shard 1/2/3", "--shard '1/2/3'", 2);
   refused(cand + " --shard", "--shard needs a value", 2);
 }
+
+}  // namespace test_corpus_cli

@@ -24,6 +24,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_corpus_interruption {
+
 namespace fs = std::filesystem;
 using namespace tagbench::testing;
 
@@ -306,3 +308,5 @@ TEST(CorpusDeterminism, CandidatesWithOneJobAndWithFourAreTheSameStore) {
   EXPECT_TRUE(slurp(merged) == ref_bin);
   EXPECT_EQ(slurp(tagbench::corpus::candidate_index_path(merged)), ref_tsv);
 }
+
+}  // namespace test_corpus_interruption

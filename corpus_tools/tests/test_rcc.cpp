@@ -8,6 +8,8 @@
 #include "rcc.hpp"
 #include "rcc_writer.hpp"
 
+namespace test_rcc {
+
 using namespace tagbench::corpus;
 using rcctest::Pack;
 
@@ -171,3 +173,5 @@ TEST(Rcc, ZlibStatedSizeBeyondItsData) {
   ok.add("big.bin", std::string(100000, '\0'), Pack::zlib);
   EXPECT_EQ(RccArchive(ok.bytes(1), "ok.rcc").read("/big.bin"), std::string(100000, '\0'));
 }
+
+}  // namespace test_rcc

@@ -7,6 +7,8 @@
 
 #include "tools/atomic_file.hpp"
 
+namespace test_atomic_file {
+
 using tagbench::owner_is_gone;
 using tagbench::owner_prefix_is_gone;
 using tagbench::owner_tag;
@@ -46,3 +48,5 @@ TEST(OwnerTag, NamesThatStartWithATag) {
   EXPECT_FALSE(owner_prefix_is_gone("x-" + dead + "-rest"));
   EXPECT_FALSE(owner_prefix_is_gone("plain"));
 }
+
+}  // namespace test_atomic_file

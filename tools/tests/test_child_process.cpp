@@ -13,6 +13,8 @@
 #include "scratch_dir.hpp"
 #include "tools/child_process.hpp"
 
+namespace test_child_process {
+
 namespace fs = std::filesystem;
 using tagbench::ChildStatus;
 using tagbench::run_child;
@@ -99,3 +101,5 @@ TEST_F(ChildProcess, IoFromAndIntoFilesAndATimeLimitThatEndsTheGroup) {
   EXPECT_EQ(s.signal, SIGKILL);
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10);
 }
+
+}  // namespace test_child_process

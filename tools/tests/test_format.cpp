@@ -8,6 +8,8 @@
 
 #include "tools/format.hpp"
 
+namespace test_format {
+
 using tagbench::csv_field;
 using tagbench::exact_number;
 using tagbench::format_cell;
@@ -58,3 +60,5 @@ TEST(Format, CsvFieldsAreQuotedOnlyWhenTheyNeedIt) {
   EXPECT_EQ(csv_field("cr\rhere"), "\"cr\rhere\"");
   EXPECT_EQ(csv_field("\""), "\"\"\"\"");
 }
+
+}  // namespace test_format

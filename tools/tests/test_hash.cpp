@@ -6,6 +6,8 @@
 
 #include "tools/hash.hpp"
 
+namespace test_hash {
+
 using tagbench::fnv1a32;
 using tagbench::fnv1a64;
 
@@ -27,3 +29,5 @@ TEST(Hash, EveryByteCountsIncludingHighAndNulBytes) {
   EXPECT_NE(fnv1a64("\xff"), fnv1a64("\x7f"));
   EXPECT_NE(fnv1a32("ab"), fnv1a32("ba"));
 }
+
+}  // namespace test_hash

@@ -7,6 +7,8 @@
 
 #include "tools/json.hpp"
 
+namespace test_json {
+
 using tagbench::json_number;
 using tagbench::json_numbers;
 using tagbench::json_string;
@@ -42,3 +44,5 @@ TEST(Json, NumbersAreShortestRoundTripAndNullWhenNotFinite) {
   EXPECT_EQ(json_numbers({}), "[]");
   EXPECT_EQ(json_numbers({0, 0.5, 12.5}), "[0, 0.5, 12.5]");
 }
+
+}  // namespace test_json

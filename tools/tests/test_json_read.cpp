@@ -9,6 +9,7 @@
 #include "tools/json_read.hpp"
 
 namespace tagbench {
+namespace test_json_read {
 namespace {
 
 TEST(JsonRead, ReadsEveryKindAndKeepsMemberOrder) {
@@ -84,4 +85,5 @@ TEST(JsonRead, MalformedTextIsRefusedWithItsPlace) {
 }
 
 }  // namespace
+}  // namespace test_json_read
 }  // namespace tagbench

@@ -4,6 +4,7 @@
 #include "tools/shell_words.hpp"
 
 namespace tagbench {
+namespace test_shell_words {
 namespace {
 
 using W = std::vector<std::string>;
@@ -24,4 +25,5 @@ TEST(ShellWords, RefusesWhatAShellWouldNotClose) {
 }
 
 }  // namespace
+}  // namespace test_shell_words
 }  // namespace tagbench

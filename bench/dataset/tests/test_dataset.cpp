@@ -14,6 +14,7 @@
 #include "tools/atomic_file.hpp"
 
 namespace tagbench::bench {
+namespace test_dataset {
 namespace {
 
 namespace fs = std::filesystem;
@@ -185,4 +186,5 @@ TEST(Dataset, BadTruthIsOneLineNamingTheFileAndFrame) {
 }
 
 }  // namespace
+}  // namespace test_dataset
 }  // namespace tagbench::bench

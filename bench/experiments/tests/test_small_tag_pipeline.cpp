@@ -8,6 +8,8 @@
 #include "experiments/small_tag_pipeline.hpp"
 #include "scenes.hpp"
 
+namespace test_small_tag_pipeline {
+
 using namespace tagbench;
 using namespace tagbench::bench;
 using namespace tagbench::bench::experiments;
@@ -59,3 +61,5 @@ TEST(SmallTagPipeline, BadVariantSpecsAreRefused) {
   EXPECT_EQ(v.area.samples_per_side, 2);
   EXPECT_TRUE(v.upsample);
 }
+
+}  // namespace test_small_tag_pipeline

@@ -13,6 +13,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_cli_external {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -145,3 +147,5 @@ TEST(CliExternal, AFailingExternalDetectorIsOneLineAndWritesNothing) {
 }
 
 }  // namespace
+
+}  // namespace test_cli_external

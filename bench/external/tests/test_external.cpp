@@ -6,6 +6,7 @@
 #include "scratch_dir.hpp"
 
 namespace tagbench::bench {
+namespace test_external {
 namespace {
 
 const std::vector<std::string> kImages = {"/data/a.png", "/data/b.png", "/data/c.png"};
@@ -81,4 +82,5 @@ TEST(External, BadSpecsAreRefused) {
 }
 
 }  // namespace
+}  // namespace test_external
 }  // namespace tagbench::bench

@@ -17,6 +17,8 @@
 #include "scenes.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_falsepos_cli {
+
 namespace fs = std::filesystem;
 using tagbench::testing::run_tagbench;
 using tagbench::testing::slurp;
@@ -270,3 +272,5 @@ TEST(FalseposCli, RefusesBadInputInOneLineWithoutOutput) {
     EXPECT_TRUE(fs::is_empty(out)) << c.args;
   }
 }
+
+}  // namespace test_falsepos_cli

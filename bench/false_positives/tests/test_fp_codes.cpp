@@ -11,6 +11,8 @@
 #include "code_experiments.hpp"
 #include "fp_codes.hpp"
 
+namespace test_fp_codes {
+
 using namespace tagbench;
 using namespace tagbench::bench;
 using namespace tagbench::corpus;
@@ -129,3 +131,5 @@ TEST(Fig7Schemes, AreThePapersFiveAnd36h11) {
   EXPECT_EQ(s[4].family.name(), builtin_family("36h15").name());
   EXPECT_EQ(s[5].family.name(), builtin_family("36h11").name());
 }
+
+}  // namespace test_fp_codes

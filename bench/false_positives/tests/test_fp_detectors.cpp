@@ -16,6 +16,8 @@
 #include "scenes.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_fp_detectors {
+
 namespace fs = std::filesystem;
 using namespace tagbench;
 using namespace tagbench::bench;
@@ -136,3 +138,5 @@ TEST(FpDetectors, RefusesUnknownDetectorsAndFamilies) {
   o.families = {"36h15"};  // aruco has no 36h15
   EXPECT_THROW(run_fp_detectors(tmp.path(), images, o), std::invalid_argument);
 }
+
+}  // namespace test_fp_detectors

@@ -11,6 +11,8 @@
 
 #include "margin_tradeoff.hpp"
 
+namespace test_margin_tradeoff {
+
 using namespace tagbench;
 using namespace tagbench::bench;
 
@@ -187,3 +189,5 @@ TEST(MarginTradeoff, RefusesWhatCannotBeScored) {
   EXPECT_EQ(default_margin_thresholds().front(), 0);
   EXPECT_NEAR(default_margin_thresholds().back(), 0.95, 1e-12);
 }
+
+}  // namespace test_margin_tradeoff

@@ -20,6 +20,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_cli_raytrace {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -243,3 +245,5 @@ TEST(CliRaytrace, AFrameThatFailsToRenderIsReportedAndTheRunGoesOn) {
   EXPECT_EQ(lines(slurp(out / "fig9_angle.csv")).size(), 3u);
   fs::remove_all(dir);
 }
+
+}  // namespace test_cli_raytrace

@@ -17,6 +17,8 @@
 #include "raytrace/render.hpp"
 #include "test_frames.hpp"
 
+namespace test_comparators {
+
 using namespace tagbench;
 using namespace tagbench::bench;
 
@@ -146,3 +148,5 @@ TEST(ArucoDefault, CornersAreInOurConventionOnAverageAndInPrintedOrder) {
   EXPECT_LT(std::abs(mean.x()), 0.25);
   EXPECT_LT(std::abs(mean.y()), 0.25);
 }
+
+}  // namespace test_comparators

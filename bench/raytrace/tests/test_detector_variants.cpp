@@ -8,6 +8,7 @@
 #include <string>
 
 namespace tagbench::bench {
+namespace test_detector_variants {
 namespace {
 
 std::string refusal(const std::string& spec) {
@@ -54,4 +55,5 @@ TEST(DetectorVariants, BadPairsAreRefusedNamingTheDetectorAndThePair) {
 }
 
 }  // namespace
+}  // namespace test_detector_variants
 }  // namespace tagbench::bench

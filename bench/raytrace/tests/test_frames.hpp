@@ -45,4 +45,8 @@ inline RenderOptions gentle_options(const std::filesystem::path& cache) {
 
 inline bool have_povray() { return find_povray().has_value(); }
 
+// Skips the calling test where POV-Ray is not installed.
+#define REQUIRE_POVRAY() \
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray is not installed"
+
 }  // namespace tagbench::bench::test

@@ -20,11 +20,14 @@
 
 #include "csv_timing.hpp"
 #include "raytrace/render.hpp"
+#include "test_frames.hpp"
 #include "tools/atomic_file.hpp"
 
 #include "kill_run.hpp"
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
+
+namespace test_raytrace_interruption {
 
 namespace fs = std::filesystem;
 using namespace tagbench::testing;
@@ -82,9 +85,6 @@ bool same_pixels(const fs::path& a, const fs::path& b) {
   return !x.empty() && x.size() == y.size() && x.type() == y.type() && cv::norm(x, y, cv::NORM_INF) == 0;
 }
 
-#define REQUIRE_POVRAY() \
-  if (!tagbench::bench::find_povray()) GTEST_SKIP() << "povray is not installed"
-
 }  // namespace
 
 TEST(RaytraceInterruption, KilledWhileRenderingThenRerunWithTheSameCacheGivesTheUninterruptedResults) {
@@ -139,3 +139,5 @@ TEST(RaytraceDeterminism, OnePovrayProcessOrThreeGiveTheSameResults) {
   EXPECT_EQ(frames.size(), names_in(c3).size());
   for (const auto& n : frames) EXPECT_TRUE(same_pixels(c3 / n, c1 / n)) << n;
 }
+
+}  // namespace test_raytrace_interruption

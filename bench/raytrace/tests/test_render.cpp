@@ -21,6 +21,8 @@
 #include "raytrace/render.hpp"
 #include "test_frames.hpp"
 
+namespace test_render {
+
 namespace fs = std::filesystem;
 using namespace tagbench;
 using namespace tagbench::bench;
@@ -31,9 +33,6 @@ using tagbench::bench::test::scratch_dir;
 using tagbench::bench::test::shared_cache;
 
 namespace {
-
-#define REQUIRE_POVRAY() \
-  if (!have_povray()) GTEST_SKIP() << "povray is not installed"
 
 // An empty directory of its own for one test, removed afterwards.
 struct FreshDir {
@@ -395,3 +394,5 @@ TEST(RaytraceRender, ABrokenTemplateStopsAfterThreeIdenticalFailures) {
     EXPECT_NE(f.error.find("Parse Error"), std::string::npos) << f.error;
   }
 }
+
+}  // namespace test_render

@@ -19,6 +19,8 @@
 #include "plan_refusal.hpp"
 #include "test_frames.hpp"
 
+namespace test_sixdof {
+
 using namespace tagbench;
 using namespace tagbench::bench;
 
@@ -297,3 +299,5 @@ TEST(SixdofRun, OurDetectorMatchesTheDistortedTruthAndTheRowsAreReproducible) {
             csv.substr(0, csv.find('\n')).find("black_square_px"));
   EXPECT_EQ(summary_csv(a, summary).rfind("experiment,variable,bin_lo,bin_hi,detector,frames,", 0), 0u);
 }
+
+}  // namespace test_sixdof

@@ -21,13 +21,12 @@
 #include "plan_refusal.hpp"
 #include "test_frames.hpp"
 
+namespace test_sweeps {
+
 using namespace tagbench;
 using namespace tagbench::bench;
 
 namespace {
-
-#define REQUIRE_POVRAY() \
-  if (!test::have_povray()) GTEST_SKIP() << "povray is not installed"
 
 SweepSettings settings(Experiment e, int trials, std::vector<double> steps = {}) {
   SweepSettings s;
@@ -658,3 +657,5 @@ TEST(SweepRun, PaperProfileReproducesThePaperDetectorsRowsByteForByte) {
   }
   EXPECT_EQ(compared, want.size() - 1);
 }
+
+}  // namespace test_sweeps

@@ -9,6 +9,7 @@
 #include "clean_camera.hpp"
 
 namespace tagbench::bench {
+namespace test_realistic_ceiling {
 namespace {
 
 // The tests' quantizing camera, tags 24-32 px with a fixed print and light.
@@ -121,4 +122,5 @@ TEST(RealisticCeiling, SummaryCountsEachTagOnceAndEachDetectorsDetections) {
 }
 
 }  // namespace
+}  // namespace test_realistic_ceiling
 }  // namespace tagbench::bench

@@ -12,6 +12,7 @@
 #include "clean_camera.hpp"
 
 namespace tagbench::bench {
+namespace test_realistic_set {
 namespace {
 
 bool same_pixels(const cv::Mat& a, const cv::Mat& b) {
@@ -190,4 +191,5 @@ TEST(RealisticSet, BadSettingsAreRefusedOnOneLine) {
 }
 
 }  // namespace
+}  // namespace test_realistic_set
 }  // namespace tagbench::bench

@@ -14,6 +14,8 @@
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
+namespace test_cli_score {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -125,3 +127,5 @@ TEST(CliScore, BadInputIsOneLineAndWritesNothing) {
 }
 
 }  // namespace
+
+}  // namespace test_cli_score

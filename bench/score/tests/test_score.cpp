@@ -11,6 +11,7 @@
 #include "tools/json.hpp"
 
 namespace tagbench::bench {
+namespace test_score {
 namespace {
 
 Dataset small_dataset() {
@@ -164,4 +165,5 @@ TEST(Score, EveryFaultIsOneLineNamingTheImage) {
 }
 
 }  // namespace
+}  // namespace test_score
 }  // namespace tagbench::bench

@@ -8,6 +8,7 @@
 #include "speed/speed_sets.hpp"
 
 namespace tagbench::bench {
+namespace test_speed_sets {
 namespace {
 
 SpeedRow row(const std::string& set, std::size_t index, const std::string& det, double ms, bool readable = true) {
@@ -84,7 +85,7 @@ TEST(SpeedSets, EveryDetectorTimedOnEveryImage) {
 }
 
 TEST(SpeedSets, CacheFramesAreSpreadEvenly) {
-  testing::ScratchDir dir("speed_cache");
+  tagbench::testing::ScratchDir dir("speed_cache");
   const cv::Mat img(8, 8, CV_8UC1, cv::Scalar(128));
   for (int i = 0; i < 10; ++i) cv::imwrite((dir / ("frame-" + std::to_string(i) + ".png")).string(), img);
   std::ofstream(dir / "tag-x.png") << "not a frame";
@@ -116,4 +117,5 @@ TEST(SpeedSets, CsvHasHeaderAndQuotes) {
 }
 
 }  // namespace
+}  // namespace test_speed_sets
 }  // namespace tagbench::bench

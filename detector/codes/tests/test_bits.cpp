@@ -4,6 +4,8 @@
 
 #include "codes/bits.hpp"
 
+namespace test_bits {
+
 using namespace tagbench;
 
 // rotate90 turns the printed payload clockwise: rotated(y, x) = original(d-1-x, y).
@@ -48,3 +50,5 @@ TEST(Bits, SelfRotationDistanceOfSymmetricPatternsIsZero) {
   // One corner cell set: each rotation moves it to another corner, distance 2.
   EXPECT_EQ(self_rotation_distance(Code{1} << cell_bit(3, 0, 0), 3), 2);
 }
+
+}  // namespace test_bits

@@ -5,6 +5,8 @@
 #include "codes/bits.hpp"
 #include "codes/complexity.hpp"
 
+namespace test_complexity {
+
 using namespace tagbench;
 
 TEST(Complexity, UniformPatternsNeedOneRectangle) {
@@ -46,3 +48,5 @@ TEST(Complexity, NeverMoreThanOneRectanglePerCell) {
     EXPECT_LE(c, 36);
   }
 }
+
+}  // namespace test_complexity

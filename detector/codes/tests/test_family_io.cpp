@@ -5,6 +5,8 @@
 #include "codes/families.hpp"
 #include "codes/family_io.hpp"
 
+namespace test_family_io {
+
 using namespace tagbench;
 
 namespace {
@@ -133,3 +135,5 @@ TEST(FamilyIo, BadCheckpointsAreRefusedWithTheFileNamed) {
     }
   }
 }
+
+}  // namespace test_family_io

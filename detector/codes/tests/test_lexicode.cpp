@@ -12,6 +12,8 @@
 #include "codes/families.hpp"
 #include "codes/lexicode.hpp"
 
+namespace test_lexicode {
+
 using namespace tagbench;
 
 namespace {
@@ -205,3 +207,5 @@ TEST(Lexicode, Shipped36h9BeginsAsPublishedAndAsTheGeneratorDoes) {
   EXPECT_EQ(g.candidate(38822029305ULL), f.codes()[5328]);
   EXPECT_EQ(g.candidate(40518140693ULL), f.codes()[5329]);
 }
+
+}  // namespace test_lexicode

@@ -11,6 +11,8 @@
 
 #include "codes/families.hpp"
 
+namespace test_published_families {
+
 using namespace tagbench;
 
 namespace {
@@ -69,3 +71,5 @@ TEST(PublishedFamilies, FirstCodesOfNotes) {
   ASSERT_EQ(f.size(), 242u);
   EXPECT_EQ(f.codes()[0], 0x4b770du);
 }
+
+}  // namespace test_published_families

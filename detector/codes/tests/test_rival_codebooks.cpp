@@ -6,6 +6,8 @@
 #include "codes/rival_codebooks.hpp"
 #include "codes/tag_family.hpp"
 
+namespace test_rival_codebooks {
+
 using namespace tagbench;
 
 namespace {
@@ -69,3 +71,5 @@ TEST(RivalCodebooks, MinimumDistancesAsMeasured) {
     EXPECT_EQ(f.min_hamming(), h) << name;
   }
 }
+
+}  // namespace test_rival_codebooks

@@ -7,6 +7,8 @@
 #include "codes/families.hpp"
 #include "codes/tag_family.hpp"
 
+namespace test_tag_family {
+
 using namespace tagbench;
 
 namespace {
@@ -117,3 +119,5 @@ TEST(Families, RegistryKnowsAllShippedAndRivalFamilies) {
   EXPECT_THROW(builtin_family("36h99"), std::invalid_argument);
   EXPECT_THROW(load_family("/no/such/file.fam"), std::invalid_argument);
 }
+
+}  // namespace test_tag_family

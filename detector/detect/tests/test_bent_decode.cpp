@@ -12,6 +12,8 @@
 #include "synthetic_folded.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_bent_decode {
+
 using namespace tagbench;
 
 namespace {
@@ -125,3 +127,5 @@ TEST(BentDecode, DetectorFindsTheFoldedTag) {
   const auto off = Detector(o).detect(view);
   EXPECT_TRUE(off.empty() || off[0].id == id);
 }
+
+}  // namespace test_bent_decode

@@ -6,6 +6,8 @@
 
 #include "detect/blur.hpp"
 
+namespace test_blur {
+
 using namespace tagbench;
 
 namespace {
@@ -153,3 +155,5 @@ TEST(Blur, BlurAndHalveEqualsBlurThenHalve) {
     EXPECT_EQ(blur_and_halve(img, 0.0).data, half_resolution(img).data);
   }
 }
+
+}  // namespace test_blur

@@ -17,6 +17,8 @@
 #include "synthetic_folded.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_border_kink {
+
 using namespace tagbench;
 
 // A flat tag's sides are straight: every kink is a small fraction of a pixel, the blur about the
@@ -200,3 +202,5 @@ TEST(BorderKink, BrokenLineFitRecoversAKnownFold) {
   ASSERT_TRUE(g);
   EXPECT_NEAR(g->c, 0, 1e-9);
 }
+
+}  // namespace test_border_kink

@@ -9,6 +9,8 @@
 #include "detect/components.hpp"
 #include "detect/threshold.hpp"
 
+namespace test_boundaries {
+
 using namespace tagbench;
 
 namespace {
@@ -130,3 +132,5 @@ TEST(Boundaries, FastScanMatchesThePixelByPixelRule) {
     for (std::size_t k = 0; k < sizes.size(); ++k) EXPECT_EQ(g.group(k).size(), sizes[k]) << "width " << W;
   }
 }
+
+}  // namespace test_boundaries

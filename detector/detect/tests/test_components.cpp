@@ -6,6 +6,8 @@
 
 #include "detect/components.hpp"
 
+namespace test_components {
+
 using namespace tagbench;
 
 namespace {
@@ -147,3 +149,5 @@ TEST(Components, EqualsAFloodFillOnRandomImages) {
       EXPECT_EQ(std::adjacent_find(label_of.begin(), label_of.end()), label_of.end());  // distinct ids
     }
 }
+
+}  // namespace test_components

@@ -7,6 +7,8 @@
 #include "detect/decode_quads.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_decode_quads {
+
 using namespace tagbench;
 
 namespace {
@@ -141,3 +143,5 @@ TEST(DecodeQuads, BitsCorrectedByFamilyFollowTheFamilysDistance) {
   EXPECT_EQ(o.bits_corrected(f16.min_hamming()), 1);
   EXPECT_EQ(DetectorOptions::paper().bits_corrected(f36.min_hamming()), 1);
 }
+
+}  // namespace test_decode_quads

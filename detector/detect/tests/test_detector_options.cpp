@@ -12,6 +12,8 @@
 #include "codes/families.hpp"
 #include "detect/detector.hpp"
 
+namespace test_detector_options {
+
 using namespace tagbench;
 
 namespace {
@@ -270,3 +272,5 @@ TEST(DetectorOptions, MaxHammingBelowEveryFamilysDistance) {
   o.max_hamming = 11;
   EXPECT_EQ(message(o), "max_hamming = 11: must be in 0..10 (below the minimum Hamming distance 11 of family 36h11)");
 }
+
+}  // namespace test_detector_options

@@ -8,6 +8,8 @@
 #include "detect/edge_refine.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_edge_refine {
+
 using namespace tagbench;
 
 namespace {
@@ -91,3 +93,5 @@ TEST(EdgeRefine, GammaEncodedEdgesAreLocatedOnLinearisedIntensities) {
   EXPECT_LT(corner_rms(*b, truth), 0.08);
   EXPECT_GT(corner_rms(*a, truth), 2 * corner_rms(*b, truth));
 }
+
+}  // namespace test_edge_refine

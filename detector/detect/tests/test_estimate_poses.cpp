@@ -8,6 +8,8 @@
 
 #include "detect/estimate_poses.hpp"
 
+namespace test_estimate_poses {
+
 using namespace tagbench;
 
 namespace {
@@ -77,3 +79,5 @@ TEST(EstimatePoses, UndistortsTheCornersFirst) {
   ASSERT_TRUE(ignored[0].pose);
   EXPECT_GT((ignored[0].pose->pose.t - truth_pose().t).norm(), 10 * (dets[0].pose->pose.t - truth_pose().t).norm());
 }
+
+}  // namespace test_estimate_poses

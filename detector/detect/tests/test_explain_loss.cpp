@@ -7,6 +7,7 @@
 #include "synthetic_tag.hpp"
 
 namespace tagbench {
+namespace test_explain_loss {
 namespace {
 
 DetectorOptions opts(const std::string& family, int max_hamming = 1) {
@@ -151,4 +152,5 @@ TEST(ExplainLoss, BadTruthIsRefused) {
 }
 
 }  // namespace
+}  // namespace test_explain_loss
 }  // namespace tagbench

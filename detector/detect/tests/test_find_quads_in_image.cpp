@@ -10,6 +10,8 @@
 #include "detect/segmentation.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_find_quads_in_image {
+
 using namespace tagbench;
 
 namespace {
@@ -102,3 +104,5 @@ TEST(FindQuadsInImage, ReusesTheWorkspaceAndFillsTimingsAndTrace) {
   expect_same(traced, second);
   EXPECT_TRUE(trace.readings.empty());  // decoding is not this function's
 }
+
+}  // namespace test_find_quads_in_image

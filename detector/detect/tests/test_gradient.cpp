@@ -5,6 +5,8 @@
 
 #include "detect/gradient.hpp"
 
+namespace test_gradient {
+
 using namespace tagbench;
 
 namespace {
@@ -77,3 +79,5 @@ TEST(Gradient, ThetaIsSkippedAtOrBelowTheThresholdButMagnitudeIsKept) {
   EXPECT_EQ(some.theta[12], 0.0f);
   EXPECT_EQ(some.mag, all.mag);
 }
+
+}  // namespace test_gradient

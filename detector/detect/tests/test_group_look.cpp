@@ -11,6 +11,8 @@
 #include "detect/threshold.hpp"
 #include "detect/threshold_quads.hpp"
 
+namespace test_group_look {
+
 using namespace tagbench;
 
 namespace {
@@ -70,3 +72,5 @@ TEST(GroupLook, RefusesCoveredLargeSparseOrDisabled) {
   none.max_windows = 0;
   EXPECT_TRUE(group_look_windows(g, {}, img.width, img.height, none).empty());
 }
+
+}  // namespace test_group_look

@@ -6,6 +6,8 @@
 
 #include "detect/homography.hpp"
 
+namespace test_homography {
+
 using namespace tagbench;
 
 TEST(Homography, RoundTripOfAKnownHomography) {
@@ -51,3 +53,5 @@ TEST(Homography, DegenerateInputIsRefused) {
   std::vector<Eigen::Vector2d> three(3, Eigen::Vector2d(1, 2));
   EXPECT_FALSE(homography_dlt(three, three).has_value());
 }
+
+}  // namespace test_homography

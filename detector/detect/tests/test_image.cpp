@@ -10,6 +10,8 @@
 #include "detect/detector_opencv.hpp"
 #include "detect/image.hpp"
 
+namespace test_image {
+
 using namespace tagbench;
 
 TEST(Image, RowMajorAccessAndClampedBorders) {
@@ -118,3 +120,5 @@ TEST(Image, BadEightBitViewsThrow) {
   EXPECT_THROW(to_float_image(ImageU8View{2, 2, 1, px}), std::invalid_argument);
   EXPECT_EQ(to_float_image(ImageU8View{2, 2, 2, px}).at(1, 1), 4.0f * static_cast<float>(1.0 / 255.0));
 }
+
+}  // namespace test_image

@@ -11,6 +11,8 @@
 #include "detect/line_fit.hpp"
 #include "synthetic.hpp"
 
+namespace test_line_fit {
+
 using namespace tagbench;
 
 namespace {
@@ -265,3 +267,5 @@ TEST(LineFit, NoiseOnlyImageGivesNoLongSegmentsAfterBlurring) {
   const std::vector<Segment> raw = fit_segments(segment_clusters(compute_gradients(img)));
   EXPECT_GT(raw.size(), 100u);  // the same noise, unblurred
 }
+
+}  // namespace test_line_fit

@@ -7,6 +7,8 @@
 #include "detect/low_contrast_quads.hpp"
 #include "detect/threshold_quads.hpp"
 
+namespace test_low_contrast_quads {
+
 using namespace tagbench;
 
 namespace {
@@ -154,3 +156,5 @@ TEST(LowContrastQuads, FindsFaintDarkSquaresNotLightOnes) {
                      ws.low_contrast, fs, low);
   EXPECT_TRUE(low.empty());
 }
+
+}  // namespace test_low_contrast_quads

@@ -3,6 +3,8 @@
 #include "detect/occlusion_refit.hpp"
 #include "synthetic_occluded.hpp"
 
+namespace test_occlusion_refit {
+
 using namespace tagbench;
 
 namespace {
@@ -40,3 +42,5 @@ TEST(OcclusionRefit, WholeSideHiddenIsWithdrawn) {
   const ImageF img = synth::occluded_tag(kTruth, 1.3, 200, 190);
   EXPECT_FALSE(refit_occluded_sides(img, kTruth, 8).corners);
 }
+
+}  // namespace test_occlusion_refit

@@ -6,6 +6,8 @@
 #include "detect/quad_fit.hpp"
 #include "detect/threshold_quads.hpp"
 
+namespace test_outer_outline {
+
 using namespace tagbench;
 
 namespace {
@@ -231,3 +233,5 @@ TEST(OuterOutline, HalfResolutionRunsTheRefitOnlyWhenAsked) {
   fit.min_tag_width = 4;
   EXPECT_EQ(quad_fit_options_for(fit, true).min_tag_width, 3);
 }
+
+}  // namespace test_outer_outline

@@ -8,6 +8,8 @@
 #include "detect/payload_area.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_payload_area {
+
 using namespace tagbench;
 
 // One sample per cell and no sharpening is the paper's reading, bit for bit and margin for margin.
@@ -88,3 +90,5 @@ TEST(PayloadArea, SmallCellsGetTheirOwnSharpening) {
   // 14 px (1.75 px cells): untouched.
   EXPECT_DOUBLE_EQ(read(14, 0.5, 1.2), read(14, 0.5, 0));
 }
+
+}  // namespace test_payload_area

@@ -5,6 +5,8 @@
 #include "detect/payload_decode.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_payload_decode {
+
 using namespace tagbench;
 
 TEST(PayloadDecode, BilinearSamplingIsExactOnARamp) {
@@ -87,3 +89,5 @@ TEST(PayloadDecode, NoTagNoReading) {
   const Corners out = synth::square_tag_corners(95, 50, 60, 0);
   EXPECT_FALSE(read_payload(img, synth::homography_for(out), 6).has_value());
 }
+
+}  // namespace test_payload_decode

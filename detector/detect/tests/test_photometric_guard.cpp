@@ -10,6 +10,8 @@
 #include "synthetic_occluded.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_photometric_guard {
+
 using namespace tagbench;
 
 // Flat and lightly blurred: the photometric model fits. Folded, or blurred by 2 px: it does not.
@@ -137,3 +139,5 @@ TEST(PhotometricGuard, HeavilyBlurredTagIsRefinedThenScaledOntoTheEdgeCorners) {
   EXPECT_GT(synth::corner_rms(on[0].corners, d.corners), 1e-3);
   EXPECT_LT(synth::corner_rms(on[0].corners, truth), synth::corner_rms(d.corners, truth));
 }
+
+}  // namespace test_photometric_guard

@@ -11,6 +11,8 @@
 #include "codes/tag_layout.hpp"
 #include "detect/photometric_model.hpp"
 
+namespace test_photometric_model {
+
 using namespace tagbench;
 using namespace tagbench::detail;
 
@@ -180,3 +182,5 @@ TEST(PhotometricModel, LowerColumnDotsAreEigensDotsBitForBit) {
     }
   }
 }
+
+}  // namespace test_photometric_model

@@ -12,6 +12,8 @@
 #include "detect/pose.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_photometric_refine {
+
 using namespace tagbench;
 
 namespace {
@@ -115,3 +117,5 @@ TEST(PhotometricRefine, MovesAreBounded) {
     for (std::size_t i = 0; i < 4; ++i) EXPECT_LE(((*r)[i] - start[i]).norm(), 0.5);
   }
 }
+
+}  // namespace test_photometric_refine

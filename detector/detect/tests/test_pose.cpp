@@ -6,6 +6,8 @@
 
 #include "detect/pose.hpp"
 
+namespace test_pose {
+
 using namespace tagbench;
 
 namespace {
@@ -87,3 +89,5 @@ TEST(Pose, RotationAngle) {
   EXPECT_FALSE((CameraIntrinsics{-1, 400, 0, 0}.valid()));
   EXPECT_FALSE((CameraIntrinsics{std::nan(""), 400, 0, 0}.valid()));
 }
+
+}  // namespace test_pose

@@ -17,6 +17,8 @@
 #include "detect/pose_choice.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_pose_choice {
+
 using namespace tagbench;
 
 namespace {
@@ -292,3 +294,5 @@ TEST(PoseChoice, BlurredPatternFitsADefocusedImageBetter) {
   EXPECT_GT(matched, over);
   EXPECT_GT(matched, 0.97);
 }
+
+}  // namespace test_pose_choice

@@ -11,6 +11,8 @@
 #include "detect/find_threshold_quads_in_image.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_profiles {
+
 using namespace tagbench;
 
 namespace {
@@ -142,3 +144,5 @@ TEST(FindThresholdQuadsInImage, QuadsOfLargeTagsAtFullAndHalfResolution) {
     EXPECT_EQ(near, 1) << "half " << half;
   }
 }
+
+}  // namespace test_profiles

@@ -10,6 +10,8 @@
 #include "synthetic.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_quad_fit {
+
 using namespace tagbench;
 
 namespace {
@@ -207,3 +209,5 @@ TEST(QuadFit, RefitOneSideFindsTheSquareInsideAMixedGroup) {
   ASSERT_EQ(quads.size(), 1u);
   EXPECT_LT(corner_error(quads[0].corners, tilted(40, 40, 10, 0)), 0.6);
 }
+
+}  // namespace test_quad_fit

@@ -9,6 +9,8 @@
 #include "detect/threshold_quads.hpp"
 #include "synthetic_occluded.hpp"
 
+namespace test_quad_fit_occluded {
+
 using namespace tagbench;
 
 namespace {
@@ -42,3 +44,5 @@ TEST(QuadFitOccluded, OccludedTagGivesItsSquareNotTheOccluder) {
     EXPECT_LT(best, 0.5) << "fraction " << fraction;
   }
 }
+
+}  // namespace test_quad_fit_occluded

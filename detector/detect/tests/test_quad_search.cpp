@@ -6,6 +6,8 @@
 #include "detect/segmentation.hpp"
 #include "synthetic.hpp"
 
+namespace test_quad_search {
+
 using namespace tagbench;
 
 namespace {
@@ -92,3 +94,5 @@ TEST(QuadSearch, FromARenderedDarkSquare) {
     EXPECT_LT(best, 0.2);
   }
 }
+
+}  // namespace test_quad_search

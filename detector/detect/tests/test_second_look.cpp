@@ -7,6 +7,8 @@
 #include "detect/second_look.hpp"
 #include "card_scene.hpp"
 
+namespace test_second_look {
+
 using namespace tagbench;
 
 namespace {
@@ -94,3 +96,5 @@ TEST(SecondLook, ValidateRefusesOptionsOutOfRange) {
   EXPECT_THROW(o.validate(), std::invalid_argument);
   DetectorOptions{}.validate();
 }
+
+}  // namespace test_second_look

@@ -11,6 +11,8 @@
 #include "detect/segmentation.hpp"
 #include "synthetic.hpp"
 
+namespace test_segmentation {
+
 using namespace tagbench;
 
 namespace {
@@ -293,3 +295,5 @@ TEST(Segmentation, FlatOrEmptyImagesHaveNoClusters) {
   EXPECT_EQ(segment_image(ImageF(30, 20, 0.4f)).size(), 0u);
   EXPECT_EQ(segment_clusters(Gradients{}).size(), 0u);
 }
+
+}  // namespace test_segmentation

@@ -12,6 +12,8 @@
 #include "detect/soft_decode.hpp"
 #include "synthetic_tag.hpp"
 
+namespace test_soft_decode {
+
 using namespace tagbench;
 
 namespace {
@@ -167,3 +169,5 @@ TEST(SoftDecode, ReadsLowContrastNoisyTagsTheHardDecoderMisses) {
   EXPECT_GE(soft, 3);
   EXPECT_LT(hard, 60);
 }
+
+}  // namespace test_soft_decode

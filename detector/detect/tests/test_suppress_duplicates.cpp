@@ -4,6 +4,8 @@
 
 #include "detect/suppress_duplicates.hpp"
 
+namespace test_suppress_duplicates {
+
 using namespace tagbench;
 
 namespace {
@@ -91,3 +93,5 @@ TEST(SuppressDuplicates, MinimumDecisionMargin) {
   drop_below_margin(v, 0);
   EXPECT_EQ(v.size(), 2u);
 }
+
+}  // namespace test_suppress_duplicates

@@ -10,6 +10,8 @@
 #include "detect/threshold.hpp"
 #include "synthetic.hpp"
 
+namespace test_threshold {
+
 using namespace tagbench;
 
 TEST(Threshold, FlatImageIsUnknownEverywhere) {
@@ -224,3 +226,5 @@ TEST(Threshold, LocalMeanRuleKeepsAThinRingLightNextToBrighterGround) {
   opt.mean_sigma = std::nanf("");
   EXPECT_THROW(adaptive_threshold(img, opt), std::invalid_argument);
 }
+
+}  // namespace test_threshold
