@@ -22,6 +22,9 @@
 // mean_sigma rule; m15 / m25 / m40: sigma 1.5 / 2.5 / 4 px, dead zone 2/255; m25x2: upsampled 2x first;
 // m25d5: dead zone 5/255), given to the paper's gradient quads at 1x / 2x (g1ok / g2ok), and to the
 // threshold stage upsampled 2x (t2ok). CL_DEBUG=1 prints each mean look's groups, quads and best match.
+// Session 14 appends the seed probes (seed_probe.hpp): pD:k, k of 8 quads from the true corners moved by
+// D / 10 px that refine and decode; hull:G:ok|shrunk|no, a quad from the hull of one of the G boundary
+// groups near the tag. SEED_DEBUG=1 prints each such group's size, offset and quad error.
 //
 //   candidate_loss FRAMES CEILING_CSV [KEY=V ...]   (KEY=V: the detector variant keys of tagbench raytrace)
 // Prints one line per lost tag and the counts per class and size bin (an experiment log, not a results/ CSV).
@@ -52,6 +55,7 @@
 #include "detect/threshold_quads.hpp"
 #include "raytrace/detector_variants.hpp"
 #include "realistic/realistic_set.hpp"
+#include "seed_probe.hpp"
 
 using namespace tagbench;
 using namespace tagbench::bench;
@@ -392,6 +396,17 @@ int main(int argc, char** argv) {
                   (mean_finds(2.5, 5.0f / 255, 1) ? " m25d5" : " --");
         dg.cls += std::string(window_finds(1, true) ? " g1ok" : " g1no") + (window_finds(2, true) ? " g2ok" : " g2no") +
                   (window_finds(2, false) ? " t2ok" : " t2no");
+        // Session 14 (seed_probe.hpp): " pD:k" = k of 8 quads from the true corners moved by D / 10 px
+        // refine and decode; " hull:G:ok|no" = a quad from the hull of one of the G boundary groups
+        // near the tag refines and decodes.
+        for (const double d : {0.5, 1.0, 1.5, 2.0, 3.0})
+          dg.cls += " p" + std::to_string(static_cast<int>(d * 10)) + ":" +
+                    std::to_string(perturbed_truth_decodes(img, tag.corners, tag.id, fam, opt, d, 8,
+                                                           static_cast<std::uint32_t>(fi * 1000 + static_cast<int>(ti))));
+        int near = 0;
+        bool shrunk = false;
+        const bool hull = hull_seed_decodes(img, ws.groups, tag.corners, tag.id, fam, opt, near, shrunk);
+        dg.cls += " hull:" + std::to_string(near) + (hull ? shrunk ? ":shrunk" : ":ok" : ":no");
       }
       std::printf("frame %d tag %zu id %d px %.1f tilt %.0f ink %.2f paper %.2f light %.2f blur %.2f: %s  %s\n", fi, ti,
                   tag.id, tag.black_square_px, tag.tilt_deg, tag.ink, tag.paper, tag.light, f.degradation.blur_sigma_px,

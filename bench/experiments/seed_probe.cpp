@@ -1,0 +1,145 @@
+// Seed probes for tags without a candidate quad (seed_probe.hpp).
+#include "seed_probe.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "detect/decode_quads.hpp"
+#include "detect/edge_refine.hpp"
+#include "detect/homography.hpp"
+
+namespace tagbench::bench {
+
+namespace {
+
+bool refines_and_decodes(const ImageF& img, Corners corners, int id, const TagFamily& family,
+                         const DetectorOptions& opt) {
+  EdgeRefineScratch rs;
+  if (const auto r = refine_quad_edges(img, corners, opt.threshold_quads.refine, rs)) corners = *r;
+  Quad q;
+  q.corners = corners;
+  const auto found = decode_quads(img, std::span(&q, 1), std::span(&family, 1), opt.max_hamming, opt.payload,
+                                  &opt.payload_area, nullptr, nullptr, opt.hamming_by_family, &opt.soft_decode);
+  return found.size() == 1 && found[0].id == id;
+}
+
+double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+}
+
+// Andrew's monotone chain; counter-clockwise in (x right, y up) terms.
+std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  std::vector<Eigen::Vector2d> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+double area(const Corners& c) {
+  double a = 0;
+  for (int i = 0; i < 4; ++i) a += c[i].x() * c[(i + 1) % 4].y() - c[(i + 1) % 4].x() * c[i].y();
+  return a / 2;
+}
+
+// The largest-area quadrilateral on the hull's vertices (O(n^3): a diagonal i-k, the best vertex
+// on either chain between them).
+Corners largest_quad(const std::vector<Eigen::Vector2d>& h) {
+  const std::size_t n = h.size();
+  Corners best{};
+  double best_a = -1;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = i + 2; k < n; ++k) {
+      double a1 = -1, a2 = -1;
+      std::size_t j1 = i, j2 = k;
+      for (std::size_t j = i + 1; j < k; ++j)
+        if (const double a = std::abs(cross(h[i], h[j], h[k])); a > a1) a1 = a, j1 = j;
+      for (std::size_t j = k + 1; j < n + i; ++j)
+        if (const double a = std::abs(cross(h[k], h[j % n], h[i])); a > a2) a2 = a, j2 = j % n;
+      if (a1 < 0 || a2 < 0) continue;
+      if (a1 + a2 > best_a) best_a = a1 + a2, best = {h[i], h[j1], h[k], h[j2]};
+    }
+  if (area(best) < 0) std::swap(best[1], best[3]);  // clockwise on screen (y down): TL, TR, BR, BL order
+  return best;
+}
+
+}  // namespace
+
+int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
+                            const DetectorOptions& opt, double shift_px, int trials, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> angle(0, 2 * M_PI);
+  int ok = 0;
+  for (int k = 0; k < trials; ++k) {
+    Corners c = truth;
+    for (auto& p : c) {
+      const double a = angle(rng);
+      p += shift_px * Eigen::Vector2d(std::cos(a), std::sin(a));
+    }
+    ok += refines_and_decodes(img, c, id, family, opt);
+  }
+  return ok;
+}
+
+bool hull_seed_decodes(const ImageF& img, const BoundaryGroups& groups, const Corners& truth, int id,
+                       const TagFamily& family, const DetectorOptions& opt, int& groups_near, bool& shrunk) {
+  shrunk = false;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const auto& p : truth) centre += p / 4;
+  const double size = std::sqrt(std::abs(area(truth)));
+  groups_near = 0;
+  for (std::size_t g = 0; g < groups.count(); ++g) {
+    const auto pts = groups.group(g);
+    if (pts.size() < 8) continue;
+    const DoubledBox b = bounding_box(pts);
+    const double w = (b.xmax - b.xmin) / 2.0, h = (b.ymax - b.ymin) / 2.0;
+    const Eigen::Vector2d c((b.xmin + b.xmax) / 4.0, (b.ymin + b.ymax) / 4.0);
+    if (std::max(w, h) < 0.5 * size || std::max(w, h) > 1.6 * size || (c - centre).norm() > 0.5 * size) continue;
+    ++groups_near;
+    std::vector<Eigen::Vector2d> p;
+    p.reserve(pts.size());
+    for (const auto& q : pts) p.emplace_back(q.x2 / 2.0, q.y2 / 2.0);
+    const auto hull = convex_hull(std::move(p));
+    if (hull.size() < 4) continue;
+    const Corners q = largest_quad(hull);
+    if (std::getenv("SEED_DEBUG")) {
+      double best = HUGE_VAL;
+      for (int r = 0; r < 4; ++r) best = std::min(best, max_corner_distance(truth, q, r));
+      std::fprintf(stdout, "  group %zu: %zu pts box %.1f x %.1f (tag %.1f) centre off %.1f hull %zu quad off %.1f\n", g,
+                   pts.size(), w, h, size, (c - centre).norm(), hull.size(), best);
+    }
+    if (refines_and_decodes(img, q, id, family, opt)) return true;
+    // The group may outline the black square with its white ring classed dark too (10 cells across
+    // for 8): the quad shrunk by 8/10 about its centre, through its homography.
+    if (const auto H = tag_homography(q)) {
+      Corners s;
+      const double u[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+      for (int i = 0; i < 4; ++i) {
+        const Eigen::Vector3d v = *H * Eigen::Vector3d(0.8 * u[i][0], 0.8 * u[i][1], 1);
+        s[i] = v.head<2>() / v.z();
+      }
+      if (refines_and_decodes(img, s, id, family, opt)) {
+        shrunk = true;
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace tagbench::bench
