@@ -24,7 +24,8 @@
 // threshold stage upsampled 2x (t2ok). CL_DEBUG=1 prints each mean look's groups, quads and best match.
 // Session 14 appends the seed probes (seed_probe.hpp): pD:k, k of 8 quads from the true corners moved by
 // D / 10 px that refine and decode; hull:G:ok|shrunk|no, a quad from the hull of one of the G boundary
-// groups near the tag. SEED_DEBUG=1 prints each such group's size, offset and quad error.
+// groups near the tag; payload:ok|no, the hull of the groups inside the tag scaled by 8/6. SEED_DEBUG=1
+// prints each such group's size, offset and quad error.
 //
 //   candidate_loss FRAMES CEILING_CSV [KEY=V ...]   (KEY=V: the detector variant keys of tagbench raytrace)
 // Prints one line per lost tag and the counts per class and size bin (an experiment log, not a results/ CSV).
@@ -407,6 +408,7 @@ int main(int argc, char** argv) {
         bool shrunk = false;
         const bool hull = hull_seed_decodes(img, ws.groups, tag.corners, tag.id, fam, opt, near, shrunk);
         dg.cls += " hull:" + std::to_string(near) + (hull ? shrunk ? ":shrunk" : ":ok" : ":no");
+        dg.cls += payload_hull_decodes(img, ws.groups, tag.corners, tag.id, fam, opt) ? " payload:ok" : " payload:no";
       }
       std::printf("frame %d tag %zu id %d px %.1f tilt %.0f ink %.2f paper %.2f light %.2f blur %.2f: %s  %s\n", fi, ti,
                   tag.id, tag.black_square_px, tag.tilt_deg, tag.ink, tag.paper, tag.light, f.degradation.blur_sigma_px,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <random>
 #include <span>
 #include <vector>
@@ -57,6 +58,19 @@ double area(const Corners& c) {
   return a / 2;
 }
 
+// The quad through tag coordinates (u, v) = (+-scale, +-scale) of `q`'s homography.
+std::optional<Corners> scaled(const Corners& q, double scale) {
+  const auto H = tag_homography(q);
+  if (!H) return std::nullopt;
+  Corners s;
+  const double u[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d v = *H * Eigen::Vector3d(scale * u[i][0], scale * u[i][1], 1);
+    s[i] = v.head<2>() / v.z();
+  }
+  return s;
+}
+
 // The largest-area quadrilateral on the hull's vertices (O(n^3): a diagonal i-k, the best vertex
 // on either chain between them).
 Corners largest_quad(const std::vector<Eigen::Vector2d>& h) {
@@ -78,7 +92,36 @@ Corners largest_quad(const std::vector<Eigen::Vector2d>& h) {
   return best;
 }
 
+
 }  // namespace
+
+int payload_hull_decodes(const ImageF& img, const BoundaryGroups& groups, const Corners& truth, int id,
+                         const TagFamily& family, const DetectorOptions& opt) {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const auto& p : truth) centre += p / 4;
+  const double size = std::sqrt(std::abs(area(truth)));
+  std::vector<Eigen::Vector2d> p;
+  for (std::size_t g = 0; g < groups.count(); ++g) {
+    const auto pts = groups.group(g);
+    const DoubledBox b = bounding_box(pts);
+    const double w = (b.xmax - b.xmin) / 2.0, h = (b.ymax - b.ymin) / 2.0;
+    const Eigen::Vector2d c((b.xmin + b.xmax) / 4.0, (b.ymin + b.ymax) / 4.0);
+    if (std::max(w, h) > 0.8 * size || (c - centre).norm() > 0.45 * size) continue;
+    for (const auto& q : pts) p.emplace_back(q.x2 / 2.0, q.y2 / 2.0);
+  }
+  const auto hull = convex_hull(std::move(p));
+  if (hull.size() < 4) return 0;
+  const Corners q = largest_quad(hull);
+  if (std::getenv("SEED_DEBUG")) {
+    double best = HUGE_VAL;
+    const auto s = scaled(q, 8.0 / 6);
+    for (int r = 0; r < 4 && s; ++r) best = std::min(best, max_corner_distance(truth, *s, r));
+    std::fprintf(stdout, "  payload hull %zu vertices, scaled quad off %.1f\n", hull.size(), best);
+  }
+  for (const double k : {8.0 / 6, 8.0 / 6.5, 8.0 / 5.5})
+    if (const auto s = scaled(q, k); s && refines_and_decodes(img, *s, id, family, opt)) return 1;
+  return 0;
+}
 
 int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
                             const DetectorOptions& opt, double shift_px, int trials, std::uint32_t seed) {
@@ -126,17 +169,9 @@ bool hull_seed_decodes(const ImageF& img, const BoundaryGroups& groups, const Co
     if (refines_and_decodes(img, q, id, family, opt)) return true;
     // The group may outline the black square with its white ring classed dark too (10 cells across
     // for 8): the quad shrunk by 8/10 about its centre, through its homography.
-    if (const auto H = tag_homography(q)) {
-      Corners s;
-      const double u[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-      for (int i = 0; i < 4; ++i) {
-        const Eigen::Vector3d v = *H * Eigen::Vector3d(0.8 * u[i][0], 0.8 * u[i][1], 1);
-        s[i] = v.head<2>() / v.z();
-      }
-      if (refines_and_decodes(img, s, id, family, opt)) {
-        shrunk = true;
-        return true;
-      }
+    if (const auto s = scaled(q, 0.8); s && refines_and_decodes(img, *s, id, family, opt)) {
+      shrunk = true;
+      return true;
     }
   }
   return false;

@@ -22,4 +22,10 @@ int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, con
 bool hull_seed_decodes(const ImageF& img, const BoundaryGroups& groups, const Corners& truth, int id,
                        const TagFamily& family, const DetectorOptions& opt, int& groups_near, bool& shrunk);
 
+// Whether the payload's light cells give the seed: the hull of every boundary group inside the tag
+// (box under 0.8 x the tag, centre within 0.45 of a tag of the tag's), its largest quadrilateral scaled
+// by 8/6 (the payload is 6 of the black square's 8 cells; also 8/6.5 and 8/5.5), refined and decoded.
+int payload_hull_decodes(const ImageF& img, const BoundaryGroups& groups, const Corners& truth, int id,
+                         const TagFamily& family, const DetectorOptions& opt);
+
 }  // namespace tagbench::bench
