@@ -24,12 +24,14 @@
 // threshold stage upsampled 2x (t2ok). CL_DEBUG=1 prints each mean look's groups, quads and best match.
 // Session 14 appends the seed probes (seed_probe.hpp): pD:k, k of 8 quads from the true corners moved by
 // D / 10 px that refine and decode; hull:G:ok|shrunk|no, a quad from the hull of one of the G boundary
-// groups near the tag; payload:ok|no, the hull of the groups inside the tag scaled by 8/6. SEED_DEBUG=1
+// groups near the tag; payload:ok|no, the hull of the groups inside the tag scaled by 8/6; cs:k, k of 18
+// squares at the true centre with the true area, turned in 5 degree steps, decode. SEED_DEBUG=1
 // prints each such group's size, offset and quad error.
 //
 //   candidate_loss FRAMES CEILING_CSV [KEY=V ...]   (KEY=V: the detector variant keys of tagbench raytrace)
 // Prints one line per lost tag and the counts per class and size bin (an experiment log, not a results/ CSV).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -266,6 +268,8 @@ int main(int argc, char** argv) {
   std::map<std::string, std::map<std::string, int>> counts;  // class -> bin -> n
   std::map<std::string, int> stages;
   ThresholdQuadWorkspace ws;
+  double cs_ms = 0;  // session 14: time of the centre-and-scale probe's refine-and-decode trials
+  int cs_trials = 0;
   for (int fi = 0; fi < frames; ++fi) {
     const RealisticFrame f = make_realistic_frame(rs, fi);
     const ImageF img = to_float_image(f.image);
@@ -408,6 +412,9 @@ int main(int argc, char** argv) {
         bool shrunk = false;
         const bool hull = hull_seed_decodes(img, ws.groups, tag.corners, tag.id, fam, opt, near, shrunk);
         dg.cls += " hull:" + std::to_string(near) + (hull ? shrunk ? ":shrunk" : ":ok" : ":no");
+        const auto t_cs = std::chrono::steady_clock::now();
+        dg.cls += " cs:" + std::to_string(centre_scale_decodes(img, tag.corners, tag.id, fam, opt, 5));
+        cs_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_cs).count(), cs_trials += 18;
         dg.cls += payload_hull_decodes(img, ws.groups, tag.corners, tag.id, fam, opt) ? " payload:ok" : " payload:no";
       }
       std::printf("frame %d tag %zu id %d px %.1f tilt %.0f ink %.2f paper %.2f light %.2f blur %.2f: %s  %s\n", fi, ti,
@@ -417,6 +424,8 @@ int main(int argc, char** argv) {
       counts[dg.cls]["all"]++;
     }
   }
+  std::printf("\ncentre-and-scale probe: %d trials, %.1f us a trial (edge refinement + decoding)\n", cs_trials,
+              cs_trials ? 1000 * cs_ms / cs_trials : 0.0);
   std::printf("\nloss stages (all sizes):\n");
   for (const auto& [k, v] : stages) std::printf("  %-28s %d\n", k.c_str(), v);
   std::printf("\nreadable no_quad tags by class and bin:\n%-28s", "class");

@@ -123,6 +123,23 @@ int payload_hull_decodes(const ImageF& img, const BoundaryGroups& groups, const 
   return 0;
 }
 
+int centre_scale_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
+                         const DetectorOptions& opt, double angle_step_deg) {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const auto& p : truth) centre += p / 4;
+  const double half = 0.5 * std::sqrt(std::abs(area(truth)));
+  int ok = 0;
+  for (double a = 0; a < 90; a += angle_step_deg) {
+    const double r = a * M_PI / 180, c = std::cos(r), s = std::sin(r);
+    Corners q;
+    const double u[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int i = 0; i < 4; ++i)
+      q[i] = centre + half * Eigen::Vector2d(c * u[i][0] - s * u[i][1], s * u[i][0] + c * u[i][1]);
+    ok += refines_and_decodes(img, q, id, family, opt);
+  }
+  return ok;
+}
+
 int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
                             const DetectorOptions& opt, double shift_px, int trials, std::uint32_t seed) {
   std::mt19937 rng(seed);

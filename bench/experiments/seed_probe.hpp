@@ -22,6 +22,11 @@ int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, con
 bool hull_seed_decodes(const ImageF& img, const BoundaryGroups& groups, const Corners& truth, int id,
                        const TagFamily& family, const DetectorOptions& opt, int& groups_near, bool& shrunk);
 
+// How many squares at the tag's true centre, with the side of its true area and turned by every
+// `angle_step_deg` in [0, 90), refine and decode to `id` (the seed a blob detector could give).
+int centre_scale_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
+                         const DetectorOptions& opt, double angle_step_deg);
+
 // Whether the payload's light cells give the seed: the hull of every boundary group inside the tag
 // (box under 0.8 x the tag, centre within 0.45 of a tag of the tag's), its largest quadrilateral scaled
 // by 8/6 (the payload is 6 of the black square's 8 cells; also 8/6.5 and 8/5.5), refined and decoded.
