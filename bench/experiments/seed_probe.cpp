@@ -18,15 +18,45 @@ namespace tagbench::bench {
 
 namespace {
 
-bool refines_and_decodes(const ImageF& img, Corners corners, int id, const TagFamily& family,
-                         const DetectorOptions& opt) {
+std::optional<Detection> refine_and_decode(const ImageF& img, Corners corners, const TagFamily& family,
+                                           const DetectorOptions& opt) {
   EdgeRefineScratch rs;
   if (const auto r = refine_quad_edges(img, corners, opt.threshold_quads.refine, rs)) corners = *r;
   Quad q;
   q.corners = corners;
-  const auto found = decode_quads(img, std::span(&q, 1), std::span(&family, 1), opt.max_hamming, opt.payload,
-                                  &opt.payload_area, nullptr, nullptr, opt.hamming_by_family, &opt.soft_decode);
-  return found.size() == 1 && found[0].id == id;
+  auto found = decode_quads(img, std::span(&q, 1), std::span(&family, 1), opt.max_hamming, opt.payload,
+                            &opt.payload_area, nullptr, nullptr, opt.hamming_by_family, &opt.soft_decode);
+  if (found.size() != 1) return std::nullopt;
+  return found[0];
+}
+
+bool refines_and_decodes(const ImageF& img, const Corners& corners, int id, const TagFamily& family,
+                         const DetectorOptions& opt) {
+  const auto d = refine_and_decode(img, corners, family, opt);
+  return d && d->id == id;
+}
+
+// The dominant direction of the gradients mod 90 degrees in the box of half-width r around c (radians):
+// angles times four, weighted by the squared magnitude, so a square's four sides agree.
+double dominant_turn(const ImageF& img, const Eigen::Vector2d& c, int r) {
+  double c4 = 0, s4 = 0;
+  for (int y = static_cast<int>(c.y()) - r; y <= static_cast<int>(c.y()) + r; ++y)
+    for (int x = static_cast<int>(c.x()) - r; x <= static_cast<int>(c.x()) + r; ++x) {
+      if (x < 1 || y < 1 || x >= img.width - 1 || y >= img.height - 1) continue;
+      const double gx = img.at(x + 1, y) - img.at(x - 1, y), gy = img.at(x, y + 1) - img.at(x, y - 1);
+      const double m2 = gx * gx + gy * gy, a = std::atan2(gy, gx);
+      c4 += m2 * std::cos(4 * a), s4 += m2 * std::sin(4 * a);
+    }
+  return std::atan2(s4, c4) / 4;
+}
+
+Corners turned_square(const Eigen::Vector2d& centre, double half, double turn) {
+  const double c = std::cos(turn), s = std::sin(turn);
+  Corners q;
+  const double u[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (int i = 0; i < 4; ++i)
+    q[i] = centre + half * Eigen::Vector2d(c * u[i][0] - s * u[i][1], s * u[i][0] + c * u[i][1]);
+  return q;
 }
 
 double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -138,6 +168,88 @@ int centre_scale_decodes(const ImageF& img, const Corners& truth, int id, const 
     ok += refines_and_decodes(img, q, id, family, opt);
   }
   return ok;
+}
+
+int centre_scale_turn_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
+                              const DetectorOptions& opt, double& turn_deg) {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const auto& p : truth) centre += p / 4;
+  const double half = 0.5 * std::sqrt(std::abs(area(truth)));
+  const double turn = dominant_turn(img, centre, static_cast<int>(std::ceil(1.25 * half)));
+  turn_deg = turn * 180 / M_PI;
+  int ok = 0;
+  for (const double k : {0.9, 1.0, 1.1}) ok += refines_and_decodes(img, turned_square(centre, k * half, turn), id, family, opt);
+  return ok;
+}
+
+std::vector<BlobSeed> blob_seeds(const ImageF& img, std::span<const double> sides, double min_response,
+                                 std::span<const Corners> covered, int max_seeds) {
+  const int w = img.width, h = img.height;
+  std::vector<double> sum(static_cast<std::size_t>(w + 1) * (h + 1), 0.0);  // integral image
+  for (int y = 0; y < h; ++y) {
+    double row = 0;
+    for (int x = 0; x < w; ++x) {
+      row += img.at(x, y);
+      sum[static_cast<std::size_t>(y + 1) * (w + 1) + x + 1] = sum[static_cast<std::size_t>(y) * (w + 1) + x + 1] + row;
+    }
+  }
+  const auto box = [&](int x0, int y0, int x1, int y1) {  // inclusive pixel box
+    const auto at = [&](int x, int y) { return sum[static_cast<std::size_t>(y) * (w + 1) + x]; };
+    return at(x1 + 1, y1 + 1) - at(x0, y1 + 1) - at(x1 + 1, y0) + at(x0, y0);
+  };
+  const int step = 2;
+  const int gw = w / step, gh = h / step;
+  std::vector<BlobSeed> found;
+  std::vector<float> resp(static_cast<std::size_t>(gw) * gh);
+  for (const double side : sides) {
+    const int ri = static_cast<int>(std::lround(0.45 * side)), ro = static_cast<int>(std::lround(0.65 * side));
+    const double ni = (2.0 * ri + 1) * (2 * ri + 1), no = (2.0 * ro + 1) * (2 * ro + 1);
+    std::fill(resp.begin(), resp.end(), 0.0f);
+    for (int gy = 0; gy < gh; ++gy)
+      for (int gx = 0; gx < gw; ++gx) {
+        const int x = gx * step, y = gy * step;
+        if (x - ro < 0 || y - ro < 0 || x + ro >= w || y + ro >= h) continue;
+        const double in = box(x - ri, y - ri, x + ri, y + ri), out = box(x - ro, y - ro, x + ro, y + ro);
+        resp[static_cast<std::size_t>(gy) * gw + gx] = static_cast<float>((out - in) / (no - ni) - in / ni);
+      }
+    for (int gy = 1; gy + 1 < gh; ++gy)
+      for (int gx = 1; gx + 1 < gw; ++gx) {
+        const float v = resp[static_cast<std::size_t>(gy) * gw + gx];
+        if (v < min_response) continue;
+        bool peak = true;
+        for (int dy = -1; dy <= 1 && peak; ++dy)
+          for (int dx = -1; dx <= 1 && peak; ++dx)
+            if ((dx || dy) && resp[static_cast<std::size_t>(gy + dy) * gw + gx + dx] > v) peak = false;
+        if (peak) found.push_back({Eigen::Vector2d(gx * step, gy * step), side, v});
+      }
+  }
+  std::sort(found.begin(), found.end(), [](const BlobSeed& a, const BlobSeed& b) { return a.response > b.response; });
+  std::vector<BlobSeed> kept;
+  for (const BlobSeed& s : found) {
+    bool skip = false;
+    for (const BlobSeed& k : kept) skip |= (k.centre - s.centre).norm() < 0.5 * std::max(k.side, s.side);
+    for (const Corners& q : covered) {
+      // inside the quad: the centre on the inner side of all four edges (either winding)
+      int pos = 0, neg = 0;
+      for (int i = 0; i < 4; ++i) {
+        const double c = cross(q[i], q[(i + 1) % 4], s.centre);
+        pos += c > 0, neg += c < 0;
+      }
+      skip |= pos == 4 || neg == 4;
+    }
+    if (!skip) kept.push_back(s);
+    if (static_cast<int>(kept.size()) >= max_seeds) break;
+  }
+  return kept;
+}
+
+std::optional<Detection> decode_seed(const ImageF& img, const BlobSeed& seed, const TagFamily& family,
+                                     const DetectorOptions& opt, std::span<const double> side_factors) {
+  const double half = 0.5 * seed.side;
+  const double turn = dominant_turn(img, seed.centre, static_cast<int>(std::ceil(1.25 * half)));
+  for (const double k : side_factors)
+    if (auto d = refine_and_decode(img, turned_square(seed.centre, k * half, turn), family, opt)) return d;
+  return std::nullopt;
 }
 
 int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,

@@ -3,6 +3,9 @@
 // for. Both probes end as the detector does: the threshold stage's edge refinement, then decoding
 // with the profile's readers. Not part of the library or of make bench (candidate_loss prints them).
 #include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
 
 #include "codes/tag_family.hpp"
 #include "detect/boundaries.hpp"
@@ -27,10 +30,32 @@ bool hull_seed_decodes(const ImageF& img, const BoundaryGroups& groups, const Co
 int centre_scale_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
                          const DetectorOptions& opt, double angle_step_deg);
 
+// The same seed with the turn taken from the image (the gradients' dominant direction mod 90 degrees
+// around the centre, `turn_deg`) and three sides (0.9, 1, 1.1 x): how many of the three decode.
+int centre_scale_turn_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
+                              const DetectorOptions& opt, double& turn_deg);
+
 // Whether the payload's light cells give the seed: the hull of every boundary group inside the tag
 // (box under 0.8 x the tag, centre within 0.45 of a tag of the tag's), its largest quadrilateral scaled
 // by 8/6 (the payload is 6 of the black square's 8 cells; also 8/6.5 and 8/5.5), refined and decoded.
 int payload_hull_decodes(const ImageF& img, const BoundaryGroups& groups, const Corners& truth, int id,
                          const TagFamily& family, const DetectorOptions& opt);
+
+// A whole-frame prototype of that seed: dark blobs of tag size. At every second pixel and each side s in
+// `sides`, the mean of the box ring between half-widths 0.45 s and 0.65 s minus the mean of the inner
+// box (half-width 0.45 s) (a dark square on a lighter surround, whatever its turn); local maxima over
+// position and side above `min_response` (intensity, 0-1), strongest first, none within half a side of
+// a stronger one and none whose centre lies in `covered` (the quads already found).
+struct BlobSeed {
+  Eigen::Vector2d centre;
+  double side = 0, response = 0;
+};
+std::vector<BlobSeed> blob_seeds(const ImageF& img, std::span<const double> sides, double min_response,
+                                 std::span<const Corners> covered, int max_seeds);
+
+// A seed read as a tag: squares of side k x the seed's for each k of `side_factors`, turned by the
+// gradients' dominant direction, refined and decoded; the first that decodes.
+std::optional<Detection> decode_seed(const ImageF& img, const BlobSeed& seed, const TagFamily& family,
+                                     const DetectorOptions& opt, std::span<const double> side_factors);
 
 }  // namespace tagbench::bench
