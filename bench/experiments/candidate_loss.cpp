@@ -31,7 +31,6 @@
 //   candidate_loss FRAMES CEILING_CSV [KEY=V ...]   (KEY=V: the detector variant keys of tagbench raytrace)
 // Prints one line per lost tag and the counts per class and size bin (an experiment log, not a results/ CSV).
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -223,93 +222,6 @@ int main(int argc, char** argv) {
     }
     std::printf("blur %.0f threshold+components %.0f boundaries+fit %.0f refine %.0f decode(+look) %.0f total %.0f ms; quads %zu\n",
                 sum.blur, sum.segmentation, sum.quads, sum.line_fit, sum.decode, sum.total, sum.quad_count);
-    return 0;
-  }
-  if (argc >= 5 && std::string(argv[1]) == "blobs") {  // candidate_loss blobs FRAMES MIN_RESPONSE MAX_SEEDS [K ...]
-    // Session 14: blob seeds (seed_probe.hpp) where the default profile found no quad, read as tags.
-    const DetectorOptions opt;
-    const Detector det(opt);
-    const TagFamily fam = load_family("36h11");
-    const double min_response = std::stod(argv[3]);
-    const int max_seeds = std::stoi(argv[4]);
-    const std::vector<double> sides = {12, 15, 18, 22, 27, 33, 40};
-    std::vector<double> factors;  // the tag's side over the seed's to try (default 1, 0.9, 1.1)
-    for (int i = 5; i < argc; ++i) factors.push_back(std::stod(argv[i]));
-    if (factors.empty()) factors = {1.0, 0.9, 1.1};
-    std::map<std::string, std::array<int, 3>> bins;  // bin -> (tags, found by the detector, + by seeds)
-    int seeds = 0, wrong = 0;
-    double seed_ms = 0, decode_ms = 0, detect_ms = 0;
-    for (int fi = 0; fi < std::stoi(argv[2]); ++fi) {
-      const RealisticFrame f = make_realistic_frame(RealisticSettings{}, fi);
-      const ImageF img = to_float_image(f.image);
-      DetectorTrace trace;
-      auto t0 = std::chrono::steady_clock::now();
-      const auto dets = det.detect(img, &trace);
-      auto t1 = std::chrono::steady_clock::now();
-      std::vector<Corners> covered;
-      if (!std::getenv("SEED_ALL_QUADS_FREE"))  // quads found but not decoded cover their seeds too
-        for (const auto& q : trace.quads) covered.push_back(q.corners);
-      for (const auto& d : dets) covered.push_back(d.corners);
-      const auto bs = blob_seeds(img, sides, min_response, covered, max_seeds);
-      auto t2 = std::chrono::steady_clock::now();
-      std::vector<Detection> more;
-      for (const auto& s : bs)
-        if (auto d = decode_seed(img, s, fam, opt, factors)) more.push_back(*d);
-      auto t3 = std::chrono::steady_clock::now();
-      detect_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
-      seed_ms += std::chrono::duration<double, std::milli>(t2 - t1).count();
-      decode_ms += std::chrono::duration<double, std::milli>(t3 - t2).count();
-      seeds += static_cast<int>(bs.size());
-      const auto near = [](const Detection& d, const RealisticTag& t) {
-        Eigen::Vector2d c = Eigen::Vector2d::Zero();
-        for (const auto& p : t.corners) c += p / 4;
-        return d.id == t.id && (d.center - c).norm() < 0.5 * t.black_square_px;
-      };
-      std::vector<bool> matched(more.size(), false);
-      for (const auto& t : f.tags) {
-        auto& b = bins[size_bin(t.black_square_px)];
-        ++b[0];
-        bool by_det = false, by_seed = false;
-        for (const auto& d : dets) by_det |= near(d, t);
-        for (std::size_t k = 0; k < more.size(); ++k)
-          if (near(more[k], t)) by_seed = true, matched[k] = true;
-        b[1] += by_det, b[2] += !by_det && by_seed;
-      }
-      for (std::size_t k = 0; k < more.size(); ++k) wrong += !matched[k];
-      if (std::getenv("SEED_DEBUG")) {  // each lost tag: the nearest seed of all (uncovered, uncapped)
-        const auto all = blob_seeds(img, sides, min_response, {}, 100000);
-        for (const auto& t : f.tags) {
-          bool by_det = false;
-          for (const auto& d : dets) by_det |= near(d, t);
-          if (by_det) continue;
-          Eigen::Vector2d c = Eigen::Vector2d::Zero();
-          for (const auto& p : t.corners) c += p / 4;
-          std::size_t best = all.size();
-          for (std::size_t k = 0; k < all.size(); ++k)
-            if (best == all.size() || (all[k].centre - c).norm() < (all[best].centre - c).norm()) best = k;
-          if (best == all.size()) continue;
-          bool cov = false;
-          for (const Corners& q : covered) {
-            int pos = 0, neg = 0;
-            for (int i = 0; i < 4; ++i) {
-              const Eigen::Vector2d a = q[i], b2 = q[(i + 1) % 4];
-              const double cr = (b2 - a).x() * (all[best].centre - a).y() - (b2 - a).y() * (all[best].centre - a).x();
-              pos += cr > 0, neg += cr < 0;
-            }
-            cov |= pos == 4 || neg == 4;
-          }
-          const auto d = decode_seed(img, all[best], fam, opt, factors);
-          std::printf("  lost px %.1f tilt %.0f: seed rank %zu of %zu off %.1f side %.0f resp %.3f%s%s\n", t.black_square_px,
-                      t.tilt_deg, best, all.size(), (all[best].centre - c).norm(), all[best].side, all[best].response,
-                      cov ? " covered" : "", d ? (d->id == t.id ? " DECODES" : " wrong") : "");
-        }
-      }
-    }
-    const int n = std::stoi(argv[2]);
-    std::printf("min_response %.3f max_seeds %d: %.1f seeds a frame; detector %.1f ms, seeds %.2f ms, decoding %.2f ms a frame; "
-                "%d decoded seeds match no tag\n", min_response, max_seeds, 1.0 * seeds / n, detect_ms / n, seed_ms / n,
-                decode_ms / n, wrong);
-    for (const auto& [b, v] : bins) std::printf("  %s: %d tags, detector %d, + seeds %d\n", b.c_str(), v[0], v[1], v[2]);
     return 0;
   }
   if (argc >= 3 && std::string(argv[1]) == "regions") {  // candidate_loss regions FRAMES: faint regions, tags in them
