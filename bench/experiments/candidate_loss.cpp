@@ -25,7 +25,8 @@
 // Session 14 appends the seed probes (seed_probe.hpp): pD:k, k of 8 quads from the true corners moved by
 // D / 10 px that refine and decode; hull:G:ok|shrunk|no, a quad from the hull of one of the G boundary
 // groups near the tag; payload:ok|no, the hull of the groups inside the tag scaled by 8/6; cs:k, k of 18
-// squares at the true centre with the true area, turned in 5 degree steps, decode. SEED_DEBUG=1
+// squares at the true centre with the true area, turned in 5 degree steps, decode; and a line per
+// readable tag lost as misread (its quad's error, the truth moved, the quad jittered). SEED_DEBUG=1
 // prints each such group's size, offset and quad error.
 //
 //   candidate_loss FRAMES CEILING_CSV [KEY=V ...]   (KEY=V: the detector variant keys of tagbench raytrace)
@@ -282,6 +283,18 @@ int main(int argc, char** argv) {
       const auto it = ceiling.find({fi, static_cast<int>(ti)});
       const bool readable = it != ceiling.end() && it->second;
       stages[std::string(loss_stage_name(e.stage)) + (readable ? " readable" : " unreadable")]++;
+      if (e.stage == LossStage::kMisread && readable) {  // session 14: how far off is a misread quad?
+        double off = HUGE_VAL;
+        Corners best_q{};
+        for (const Quad& q : trace.quads)
+          if (const double d = best_match(q.corners, tag.corners); d < off) off = d, best_q = q.corners;
+        std::printf("misread frame %d tag %zu px %.1f tilt %.0f: %s; quad off %.2f px; truth moved 0.5/1 px decodes %d/%d of 8;"
+                    " quad jittered 1 px decodes %d of 16 (%d refined)\n",
+                    fi, ti, tag.black_square_px, tag.tilt_deg, e.text.c_str(), off,
+                    perturbed_truth_decodes(img, tag.corners, tag.id, fam, opt, 0.5, 8, 1),
+                    perturbed_truth_decodes(img, tag.corners, tag.id, fam, opt, 1.0, 8, 1),
+                    jitter_decodes(img, best_q, tag.id, fam, opt, 1.0, false), jitter_decodes(img, best_q, tag.id, fam, opt, 1.0, true));
+      }
       if (e.stage != LossStage::kNoQuad || !readable) continue;
       if (!ran) {
         std::vector<Quad> q;

@@ -252,6 +252,27 @@ std::optional<Detection> decode_seed(const ImageF& img, const BlobSeed& seed, co
   return std::nullopt;
 }
 
+int jitter_decodes(const ImageF& img, const Corners& quad, int id, const TagFamily& family, const DetectorOptions& opt,
+                   double step_px, bool refine) {
+  int ok = 0;
+  const double d[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+  for (int c = 0; c < 4; ++c)
+    for (const auto& v : d) {
+      Corners q = quad;
+      q[c] += step_px * Eigen::Vector2d(v[0], v[1]);
+      if (refine) {
+        ok += refines_and_decodes(img, q, id, family, opt);
+      } else {
+        Quad one;
+        one.corners = q;
+        const auto f = decode_quads(img, std::span(&one, 1), std::span(&family, 1), opt.max_hamming, opt.payload,
+                                    &opt.payload_area, nullptr, nullptr, opt.hamming_by_family, &opt.soft_decode);
+        ok += f.size() == 1 && f[0].id == id;
+      }
+    }
+  return ok;
+}
+
 int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
                             const DetectorOptions& opt, double shift_px, int trials, std::uint32_t seed) {
   std::mt19937 rng(seed);

@@ -35,6 +35,11 @@ int centre_scale_decodes(const ImageF& img, const Corners& truth, int id, const 
 int centre_scale_turn_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
                               const DetectorOptions& opt, double& turn_deg);
 
+// Of the 16 quads made from `quad` by moving one corner by step_px along x or y, how many decode to
+// `id` (refined first when `refine`).
+int jitter_decodes(const ImageF& img, const Corners& quad, int id, const TagFamily& family, const DetectorOptions& opt,
+                   double step_px, bool refine);
+
 // Whether the payload's light cells give the seed: the hull of every boundary group inside the tag
 // (box under 0.8 x the tag, centre within 0.45 of a tag of the tag's), its largest quadrilateral scaled
 // by 8/6 (the payload is 6 of the black square's 8 cells; also 8/6.5 and 8/5.5), refined and decoded.
