@@ -205,53 +205,6 @@ Diagnosis diagnose(const ImageF& img, const Corners& truth, const ThresholdQuadO
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc >= 3 && std::string(argv[1]) == "time") {  // candidate_loss time FRAMES [KEY=V ...]: stage ms
-    std::string spec;
-    for (int i = 3; i < argc; ++i) spec += std::string(i == 3 ? "" : "/") + argv[i];
-    DetectorOptions opt;
-    apply_detector_variant(opt, spec, "tagbench/" + spec);
-    opt.families = {"36h11"};
-    const Detector det(opt);
-    DetectorWorkspace ws;
-    StageTimings sum;
-    for (int fi = 0; fi < std::stoi(argv[2]); ++fi) {
-      const ImageF img = to_float_image(make_realistic_frame(RealisticSettings{}, fi).image);
-      StageTimings tm;
-      det.detect(img, ws, nullptr, &tm);
-      sum.blur += tm.blur, sum.segmentation += tm.segmentation, sum.quads += tm.quads, sum.line_fit += tm.line_fit;
-      sum.decode += tm.decode, sum.total += tm.total, sum.quad_count += tm.quad_count;
-    }
-    std::printf("blur %.0f threshold+components %.0f boundaries+fit %.0f refine %.0f decode(+look) %.0f total %.0f ms; quads %zu\n",
-                sum.blur, sum.segmentation, sum.quads, sum.line_fit, sum.decode, sum.total, sum.quad_count);
-    return 0;
-  }
-  if (argc >= 3 && std::string(argv[1]) == "regions") {  // candidate_loss regions FRAMES: faint regions, tags in them
-    const DetectorOptions opt;
-    LowContrastScratch ls;
-    std::vector<FaintRegion> regs;
-    for (int fi = 0; fi < std::stoi(argv[2]); ++fi) {
-      const RealisticFrame f = make_realistic_frame(RealisticSettings{}, fi);
-      const ImageF img = to_float_image(f.image);
-      ThresholdScratch th;
-      TernaryImage tern;
-      adaptive_threshold(img, opt.threshold_quads.threshold, th, tern);
-      LowContrastPassOptions all;
-      all.min_size_px = 0, all.max_size_px = 1e9, all.min_fill = 0, all.min_area_px = 0;
-      faint_regions(th, img.width, img.height, 2, 10.0f / 255, 20.0f / 255, all, ls, regs);
-      for (const auto& r : regs) {
-        int tag = -1;
-        double px = 0;
-        for (std::size_t t = 0; t < f.tags.size(); ++t) {
-          Eigen::Vector2d c = Eigen::Vector2d::Zero();
-          for (const auto& p : f.tags[t].corners) c += p / 4;
-          if (c.x() >= r.x0 && c.x() <= r.x1 && c.y() >= r.y0 && c.y() <= r.y1) tag = static_cast<int>(t), px = f.tags[t].black_square_px;
-        }
-        const int w = r.x1 - r.x0 + 1, h = r.y1 - r.y0 + 1;
-        std::printf("R %d %d %d %d %.3f %d %.1f\n", fi, w, h, r.tiles, 4.0 * r.tiles / (w * h), tag, px);
-      }
-    }
-    return 0;
-  }
   if (argc < 3) {
     std::fprintf(stderr, "usage: candidate_loss FRAMES CEILING_CSV [KEY=V ...]\n");
     return 2;
