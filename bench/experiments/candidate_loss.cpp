@@ -58,6 +58,7 @@
 #include "detect/second_look.hpp"
 #include "detect/threshold_quads.hpp"
 #include "raytrace/detector_variants.hpp"
+#include "realistic/realistic_run.hpp"
 #include "realistic/realistic_set.hpp"
 #include "seed_probe.hpp"
 
@@ -85,16 +86,6 @@ std::map<std::pair<int, int>, bool> read_ceiling(const std::string& path) {
     out[{std::stoi(v[fr]), std::stoi(v[tg])}] = v[ad] == "1" || v[pd] == "1";
   }
   return out;
-}
-
-const char* size_bin(double px) {
-  return px < 16 ? "12-16" : px < 20 ? "16-20" : px < 24 ? "20-24" : px < 28 ? "24-28" : px < 32 ? "28-32" : "32-40";
-}
-
-double best_match(const Corners& a, const Corners& b) {
-  double best = HUGE_VAL;
-  for (int s = 0; s < 4; ++s) best = std::min(best, max_corner_distance(a, b, s));
-  return best;
 }
 
 struct Diagnosis {
@@ -180,7 +171,7 @@ Diagnosis diagnose(const ImageF& img, const Corners& truth, const ThresholdQuadO
     std::vector<Quad> q;
     fit_quads(one, img, f, ws.fit, q);
     double best = HUGE_VAL;
-    for (const auto& x : q) best = std::min(best, best_match(x.corners, truth));
+    for (const auto& x : q) best = std::min(best, best_corner_match(x.corners, truth));
     return best;
   };
   const QuadFitOptions base = quad_fit_options_for(tq.fit, false);
@@ -240,7 +231,7 @@ int main(int argc, char** argv) {
         double off = HUGE_VAL;
         Corners best_q{};
         for (const Quad& q : trace.quads)
-          if (const double d = best_match(q.corners, tag.corners); d < off) off = d, best_q = q.corners;
+          if (const double d = best_corner_match(q.corners, tag.corners); d < off) off = d, best_q = q.corners;
         std::printf("misread frame %d tag %zu px %.1f tilt %.0f: %s; quad off %.2f px; truth moved 0.5/1 px decodes %d/%d of 8;"
                     " quad jittered 1 px decodes %d of 16 (%d refined)\n",
                     fi, ti, tag.black_square_px, tag.tilt_deg, e.text.c_str(), off,
@@ -267,7 +258,7 @@ int main(int argc, char** argv) {
         auto finds = [&](const std::vector<Quad>& w, const ImageF* im = nullptr) {
           double best = HUGE_VAL;
           for (const Quad& q : second_look_quads(im ? *im : img, w, std::vector<bool>(w.size(), true), opt.threshold_quads, sl))
-            best = std::min(best, best_match(q.corners, tag.corners));
+            best = std::min(best, best_corner_match(q.corners, tag.corners));
           return best <= tol;
         };
         std::vector<Quad> hold;
@@ -313,7 +304,7 @@ int main(int argc, char** argv) {
           double best = HUGE_VAL;
           for (Quad q : qs) {
             for (auto& p : q.corners) p = Eigen::Vector2d(wx0 + (p.x() + 0.5) / up - 0.5, wy0 + (p.y() + 0.5) / up - 0.5);
-            best = std::min(best, best_match(q.corners, tag.corners));
+            best = std::min(best, best_corner_match(q.corners, tag.corners));
           }
           return best <= tol;
         };
@@ -355,7 +346,7 @@ int main(int argc, char** argv) {
           for (Quad q : qs) {
             for (auto& p : q.corners) p = Eigen::Vector2d(wx0 + (p.x() + 0.5) / up - 0.5, wy0 + (p.y() + 0.5) / up - 0.5);
             if (const auto r = refine_quad_edges(img, q.corners, opt.threshold_quads.refine, rs)) q.corners = *r;
-            best = std::min(best, best_match(q.corners, tag.corners));
+            best = std::min(best, best_corner_match(q.corners, tag.corners));
           }
           if (std::getenv("CL_DEBUG"))
             std::fprintf(stderr, "mean sigma %.1f up %d: %zu groups %zu quads best %.2f tol %.2f\n", sigma, up, groups.count(),
@@ -389,7 +380,7 @@ int main(int argc, char** argv) {
       std::printf("frame %d tag %zu id %d px %.1f tilt %.0f ink %.2f paper %.2f light %.2f blur %.2f: %s  %s\n", fi, ti,
                   tag.id, tag.black_square_px, tag.tilt_deg, tag.ink, tag.paper, tag.light, f.degradation.blur_sigma_px,
                   dg.cls.c_str(), dg.detail.c_str());
-      counts[dg.cls][size_bin(tag.black_square_px)]++;
+      counts[dg.cls][size_bin_of(tag.black_square_px).name]++;
       counts[dg.cls]["all"]++;
     }
   }

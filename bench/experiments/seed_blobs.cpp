@@ -14,19 +14,12 @@
 #include "codes/families.hpp"
 #include "detect/detector.hpp"
 #include "detect/detector_opencv.hpp"
+#include "realistic/realistic_run.hpp"
 #include "realistic/realistic_set.hpp"
 #include "seed_probe.hpp"
 
 using namespace tagbench;
 using namespace tagbench::bench;
-
-namespace {
-
-const char* size_bin(double px) {
-  return px < 16 ? "12-16" : px < 20 ? "16-20" : px < 24 ? "20-24" : px < 28 ? "24-28" : px < 32 ? "28-32" : "32-40";
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 4) {
@@ -74,7 +67,7 @@ int main(int argc, char** argv) {
     };
     std::vector<bool> matched(more.size(), false);
     for (const auto& t : f.tags) {
-      auto& b = bins[size_bin(t.black_square_px)];
+      auto& b = bins[size_bin_of(t.black_square_px).name];
       ++b[0];
       bool by_det = false, by_seed = false;
       for (const auto& d : dets) by_det |= near(d, t);

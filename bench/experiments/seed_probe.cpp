@@ -18,10 +18,9 @@ namespace tagbench::bench {
 
 namespace {
 
-std::optional<Detection> refine_and_decode(const ImageF& img, Corners corners, const TagFamily& family,
-                                           const DetectorOptions& opt) {
-  EdgeRefineScratch rs;
-  if (const auto r = refine_quad_edges(img, corners, opt.threshold_quads.refine, rs)) corners = *r;
+// The quad `corners` decoded as the profile decodes (its readers, bits corrected by family, soft decoding).
+std::optional<Detection> decode_at(const ImageF& img, const Corners& corners, const TagFamily& family,
+                                   const DetectorOptions& opt) {
   Quad q;
   q.corners = corners;
   auto found = decode_quads(img, std::span(&q, 1), std::span(&family, 1), opt.max_hamming, opt.payload,
@@ -29,6 +28,16 @@ std::optional<Detection> refine_and_decode(const ImageF& img, Corners corners, c
   if (found.size() != 1) return std::nullopt;
   return found[0];
 }
+
+// The same after the threshold stage's edge refinement (kept as given where it is rejected).
+std::optional<Detection> refine_and_decode(const ImageF& img, Corners corners, const TagFamily& family,
+                                           const DetectorOptions& opt) {
+  EdgeRefineScratch rs;
+  if (const auto r = refine_quad_edges(img, corners, opt.threshold_quads.refine, rs)) corners = *r;
+  return decode_at(img, corners, family, opt);
+}
+
+Eigen::Vector2d centre_of(const Corners& c) { return (c[0] + c[1] + c[2] + c[3]) / 4; }
 
 bool refines_and_decodes(const ImageF& img, const Corners& corners, int id, const TagFamily& family,
                          const DetectorOptions& opt) {
@@ -122,13 +131,17 @@ Corners largest_quad(const std::vector<Eigen::Vector2d>& h) {
   return best;
 }
 
-
 }  // namespace
+
+double best_corner_match(const Corners& a, const Corners& b) {
+  double best = HUGE_VAL;
+  for (int s = 0; s < 4; ++s) best = std::min(best, max_corner_distance(a, b, s));
+  return best;
+}
 
 int payload_hull_decodes(const ImageF& img, const BoundaryGroups& groups, const Corners& truth, int id,
                          const TagFamily& family, const DetectorOptions& opt) {
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  for (const auto& p : truth) centre += p / 4;
+  const Eigen::Vector2d centre = centre_of(truth);
   const double size = std::sqrt(std::abs(area(truth)));
   std::vector<Eigen::Vector2d> p;
   for (std::size_t g = 0; g < groups.count(); ++g) {
@@ -143,9 +156,8 @@ int payload_hull_decodes(const ImageF& img, const BoundaryGroups& groups, const 
   if (hull.size() < 4) return 0;
   const Corners q = largest_quad(hull);
   if (std::getenv("SEED_DEBUG")) {
-    double best = HUGE_VAL;
     const auto s = scaled(q, 8.0 / 6);
-    for (int r = 0; r < 4 && s; ++r) best = std::min(best, max_corner_distance(truth, *s, r));
+    const double best = s ? best_corner_match(*s, truth) : HUGE_VAL;
     std::fprintf(stdout, "  payload hull %zu vertices, scaled quad off %.1f\n", hull.size(), best);
   }
   for (const double k : {8.0 / 6, 8.0 / 6.5, 8.0 / 5.5})
@@ -155,25 +167,17 @@ int payload_hull_decodes(const ImageF& img, const BoundaryGroups& groups, const 
 
 int centre_scale_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
                          const DetectorOptions& opt, double angle_step_deg) {
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  for (const auto& p : truth) centre += p / 4;
+  const Eigen::Vector2d centre = centre_of(truth);
   const double half = 0.5 * std::sqrt(std::abs(area(truth)));
   int ok = 0;
-  for (double a = 0; a < 90; a += angle_step_deg) {
-    const double r = a * M_PI / 180, c = std::cos(r), s = std::sin(r);
-    Corners q;
-    const double u[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-    for (int i = 0; i < 4; ++i)
-      q[i] = centre + half * Eigen::Vector2d(c * u[i][0] - s * u[i][1], s * u[i][0] + c * u[i][1]);
-    ok += refines_and_decodes(img, q, id, family, opt);
-  }
+  for (double a = 0; a < 90; a += angle_step_deg)
+    ok += refines_and_decodes(img, turned_square(centre, half, a * M_PI / 180), id, family, opt);
   return ok;
 }
 
 int centre_scale_turn_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
                               const DetectorOptions& opt, double& turn_deg) {
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  for (const auto& p : truth) centre += p / 4;
+  const Eigen::Vector2d centre = centre_of(truth);
   const double half = 0.5 * std::sqrt(std::abs(area(truth)));
   const double turn = dominant_turn(img, centre, static_cast<int>(std::ceil(1.25 * half)));
   turn_deg = turn * 180 / M_PI;
@@ -260,15 +264,8 @@ int jitter_decodes(const ImageF& img, const Corners& quad, int id, const TagFami
     for (const auto& v : d) {
       Corners q = quad;
       q[c] += step_px * Eigen::Vector2d(v[0], v[1]);
-      if (refine) {
-        ok += refines_and_decodes(img, q, id, family, opt);
-      } else {
-        Quad one;
-        one.corners = q;
-        const auto f = decode_quads(img, std::span(&one, 1), std::span(&family, 1), opt.max_hamming, opt.payload,
-                                    &opt.payload_area, nullptr, nullptr, opt.hamming_by_family, &opt.soft_decode);
-        ok += f.size() == 1 && f[0].id == id;
-      }
+      const auto f = refine ? refine_and_decode(img, q, family, opt) : decode_at(img, q, family, opt);
+      ok += f && f->id == id;
     }
   return ok;
 }
@@ -292,8 +289,7 @@ int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, con
 bool hull_seed_decodes(const ImageF& img, const BoundaryGroups& groups, const Corners& truth, int id,
                        const TagFamily& family, const DetectorOptions& opt, int& groups_near, bool& shrunk) {
   shrunk = false;
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  for (const auto& p : truth) centre += p / 4;
+  const Eigen::Vector2d centre = centre_of(truth);
   const double size = std::sqrt(std::abs(area(truth)));
   groups_near = 0;
   for (std::size_t g = 0; g < groups.count(); ++g) {
@@ -311,8 +307,7 @@ bool hull_seed_decodes(const ImageF& img, const BoundaryGroups& groups, const Co
     if (hull.size() < 4) continue;
     const Corners q = largest_quad(hull);
     if (std::getenv("SEED_DEBUG")) {
-      double best = HUGE_VAL;
-      for (int r = 0; r < 4; ++r) best = std::min(best, max_corner_distance(truth, q, r));
+      const double best = best_corner_match(q, truth);
       std::fprintf(stdout, "  group %zu: %zu pts box %.1f x %.1f (tag %.1f) centre off %.1f hull %zu quad off %.1f\n", g,
                    pts.size(), w, h, size, (c - centre).norm(), hull.size(), best);
     }

@@ -13,6 +13,9 @@
 
 namespace tagbench::bench {
 
+// The largest corner distance between two quads under the best cyclic shift of their corners (px).
+double best_corner_match(const Corners& a, const Corners& b);
+
 // Of `trials` quads made from the true corners each moved by `shift_px` in a random direction (seeded
 // by `seed`), how many refine and decode to the tag's `id`.
 int perturbed_truth_decodes(const ImageF& img, const Corners& truth, int id, const TagFamily& family,
