@@ -359,8 +359,8 @@ int main(int argc, char** argv) {
         dg.cls += std::string(window_finds(1, true) ? " g1ok" : " g1no") + (window_finds(2, true) ? " g2ok" : " g2no") +
                   (window_finds(2, false) ? " t2ok" : " t2no");
         // Session 14 (seed_probe.hpp): " pD:k" = k of 8 quads from the true corners moved by D / 10 px
-        // refine and decode; " hull:G:ok|no" = a quad from the hull of one of the G boundary groups
-        // near the tag refines and decodes.
+        // refine and decode; " hull:G:ok|shrunk|no" = a quad from the hull of one of the G boundary
+        // groups near the tag (or that quad shrunk by 8/10) refines and decodes.
         for (const double d : {0.5, 1.0, 1.5, 2.0, 3.0})
           dg.cls += " p" + std::to_string(static_cast<int>(d * 10)) + ":" +
                     std::to_string(perturbed_truth_decodes(img, tag.corners, tag.id, fam, opt, d, 8,

@@ -61,43 +61,31 @@ int main(int argc, char** argv) {
     decode_ms += std::chrono::duration<double, std::milli>(t3 - t2).count();
     seeds += static_cast<int>(bs.size());
     const auto near = [](const Detection& d, const RealisticTag& t) {
-      Eigen::Vector2d c = Eigen::Vector2d::Zero();
-      for (const auto& p : t.corners) c += p / 4;
-      return d.id == t.id && (d.center - c).norm() < 0.5 * t.black_square_px;
+      return d.id == t.id && (d.center - centre_of(t.corners)).norm() < 0.5 * t.black_square_px;
     };
-    std::vector<bool> matched(more.size(), false);
-    for (const auto& t : f.tags) {
+    std::vector<bool> matched(more.size(), false), lost(f.tags.size(), true);
+    for (std::size_t ti = 0; ti < f.tags.size(); ++ti) {
+      const RealisticTag& t = f.tags[ti];
       auto& b = bins[size_bin_of(t.black_square_px).name];
       ++b[0];
-      bool by_det = false, by_seed = false;
-      for (const auto& d : dets) by_det |= near(d, t);
+      bool by_seed = false;
+      for (const auto& d : dets) lost[ti] = lost[ti] && !near(d, t);
       for (std::size_t k = 0; k < more.size(); ++k)
         if (near(more[k], t)) by_seed = true, matched[k] = true;
-      b[1] += by_det, b[2] += !by_det && by_seed;
+      b[1] += !lost[ti], b[2] += lost[ti] && by_seed;
     }
     for (std::size_t k = 0; k < more.size(); ++k) wrong += !matched[k];
     if (std::getenv("SEED_DEBUG")) {  // each lost tag: the nearest seed of all (uncovered, uncapped)
       const auto all = blob_seeds(img, sides, min_response, {}, 100000);
-      for (const auto& t : f.tags) {
-        bool by_det = false;
-        for (const auto& d : dets) by_det |= near(d, t);
-        if (by_det) continue;
-        Eigen::Vector2d c = Eigen::Vector2d::Zero();
-        for (const auto& p : t.corners) c += p / 4;
+      for (std::size_t ti = 0; ti < f.tags.size(); ++ti) {
+        const RealisticTag& t = f.tags[ti];
+        if (!lost[ti]) continue;
+        const Eigen::Vector2d c = centre_of(t.corners);
         std::size_t best = all.size();
         for (std::size_t k = 0; k < all.size(); ++k)
           if (best == all.size() || (all[k].centre - c).norm() < (all[best].centre - c).norm()) best = k;
         if (best == all.size()) continue;
-        bool cov = false;
-        for (const Corners& q : covered) {
-          int pos = 0, neg = 0;
-          for (int i = 0; i < 4; ++i) {
-            const Eigen::Vector2d a = q[i], b2 = q[(i + 1) % 4];
-            const double cr = (b2 - a).x() * (all[best].centre - a).y() - (b2 - a).y() * (all[best].centre - a).x();
-            pos += cr > 0, neg += cr < 0;
-          }
-          cov |= pos == 4 || neg == 4;
-        }
+        const bool cov = inside_any(covered, all[best].centre);
         const auto d = decode_seed(img, all[best], fam, opt, factors);
         std::printf("  lost px %.1f tilt %.0f: seed rank %zu of %zu off %.1f side %.0f resp %.3f%s%s\n", t.black_square_px,
                     t.tilt_deg, best, all.size(), (all[best].centre - c).norm(), all[best].side, all[best].response,
@@ -105,11 +93,10 @@ int main(int argc, char** argv) {
       }
     }
   }
-  const int n = frames;
+  const int n = frames;  // per-frame means
   std::printf("min_response %.3f max_seeds %d: %.1f seeds a frame; detector %.1f ms, seeds %.2f ms, decoding %.2f ms a frame; "
               "%d decoded seeds match no tag\n", min_response, max_seeds, 1.0 * seeds / n, detect_ms / n, seed_ms / n,
               decode_ms / n, wrong);
   for (const auto& [b, v] : bins) std::printf("  %s: %d tags, detector %d, + seeds %d\n", b.c_str(), v[0], v[1], v[2]);
-  return 0;
   return 0;
 }

@@ -37,7 +37,6 @@ std::optional<Detection> refine_and_decode(const ImageF& img, Corners corners, c
   return decode_at(img, corners, family, opt);
 }
 
-Eigen::Vector2d centre_of(const Corners& c) { return (c[0] + c[1] + c[2] + c[3]) / 4; }
 
 bool refines_and_decodes(const ImageF& img, const Corners& corners, int id, const TagFamily& family,
                          const DetectorOptions& opt) {
@@ -132,6 +131,20 @@ Corners largest_quad(const std::vector<Eigen::Vector2d>& h) {
 }
 
 }  // namespace
+
+Eigen::Vector2d centre_of(const Corners& c) { return (c[0] + c[1] + c[2] + c[3]) / 4; }
+
+bool inside_any(std::span<const Corners> quads, const Eigen::Vector2d& p) {
+  for (const Corners& q : quads) {
+    int pos = 0, neg = 0;  // p strictly on the inner side of all four edges, either winding
+    for (int i = 0; i < 4; ++i) {
+      const double c = cross(q[i], q[(i + 1) % 4], p);
+      pos += c > 0, neg += c < 0;
+    }
+    if (pos == 4 || neg == 4) return true;
+  }
+  return false;
+}
 
 double best_corner_match(const Corners& a, const Corners& b) {
   double best = HUGE_VAL;
@@ -232,15 +245,7 @@ std::vector<BlobSeed> blob_seeds(const ImageF& img, std::span<const double> side
   for (const BlobSeed& s : found) {
     bool skip = false;
     for (const BlobSeed& k : kept) skip |= (k.centre - s.centre).norm() < 0.5 * std::max(k.side, s.side);
-    for (const Corners& q : covered) {
-      // inside the quad: the centre on the inner side of all four edges (either winding)
-      int pos = 0, neg = 0;
-      for (int i = 0; i < 4; ++i) {
-        const double c = cross(q[i], q[(i + 1) % 4], s.centre);
-        pos += c > 0, neg += c < 0;
-      }
-      skip |= pos == 4 || neg == 4;
-    }
+    skip |= inside_any(covered, s.centre);
     if (!skip) kept.push_back(s);
     if (static_cast<int>(kept.size()) >= max_seeds) break;
   }

@@ -13,6 +13,12 @@
 
 namespace tagbench::bench {
 
+// The mean of a quad's corners.
+Eigen::Vector2d centre_of(const Corners& c);
+
+// Whether p lies strictly inside one of the convex quads (either winding).
+bool inside_any(std::span<const Corners> quads, const Eigen::Vector2d& p);
+
 // The largest corner distance between two quads under the best cyclic shift of their corners (px).
 double best_corner_match(const Corners& a, const Corners& b);
 
