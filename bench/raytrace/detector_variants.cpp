@@ -93,6 +93,17 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "posechoice_gentle_samples") o.pose_choice.gentle_samples_per_cell = static_cast<int>(x);
     else if (k == "posechoice_gentle_blur") o.pose_choice.gentle_model_blur_px = x;
     else if (k == "bent") o.bent.enabled = x != 0;
+    else if (k == "cref") o.code_refit.enabled = x != 0;
+    else if (k == "cref_bits") o.code_refit.max_bits = static_cast<int>(x);
+    else if (k == "cref_spare") o.code_refit.spare_bits = static_cast<int>(x);
+    else if (k == "cref_fam") o.code_refit.min_family_hamming = static_cast<int>(x);
+    else if (k == "cref_min") o.code_refit.min_side_px = x;
+    else if (k == "cref_max") o.code_refit.max_side_px = x;
+    else if (k == "cref_iter") o.code_refit.refine.iterations = static_cast<int>(x);
+    else if (k == "cref_blur") o.code_refit.refine.initial_blur_px = x;
+    else if (k == "cref_band") o.code_refit.refine.band_px = x;
+    else if (k == "cref_shift") o.code_refit.refine.max_corner_shift_px = x;
+    else if (k == "cref_maxblur") o.code_refit.refine.max_blur_cells = x;
     else if (k == "bent_kink") o.bent.min_kink_px = x;
     else if (k == "bent_pre") o.bent.precheck_fraction = x;
     else if (k == "bent_side") o.bent.min_side_px = x;

@@ -12,7 +12,8 @@
 //     threshold quads and the occlusion refit; margin (min decision margin); photo, photo_*: the
 //     photometric refinement; pguard, pguard_*: its guard; posechoice, posechoice_*: the pose choice;
 //     bent, bent_*: folded tags; outer, outer_*, ring_*: the outer-outline fallback; look, look_*: the
-//     second look; soft, soft_*: the soft decoder (soft_decode.hpp). detector_variants.cpp maps every key
+//     second look; soft, soft_*: the soft decoder (soft_decode.hpp); cref, cref_*: the code refit
+//     (code_refit.hpp). detector_variants.cpp maps every key
 //     to its field.
 #include <string>
 

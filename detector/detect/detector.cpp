@@ -155,7 +155,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   const bool second_look = opt_.second_look.enabled && opt_.quad_finder == QuadFinderKind::kThreshold &&
                            (!opt_.half_resolution || opt_.second_look.at_half_resolution);
   std::vector<QuadOutcome>* outcomes =
-      trace ? &trace->quad_outcomes : (opt_.bent.enabled || second_look) ? &own_outcomes : nullptr;
+      trace ? &trace->quad_outcomes
+            : (opt_.bent.enabled || second_look || opt_.code_refit.enabled) ? &own_outcomes : nullptr;
   const std::size_t first_outcome = outcomes ? outcomes->size() : 0;
   std::vector<Detection> decoded = decode_quads(*found.decode_image, found.quads, families_, opt_.max_hamming,
                                                 opt_.payload,
@@ -169,8 +170,12 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                   opt_.hamming_by_family, opt_.payload_area, opt_.payload.min_contrast, opt_.bent);
     decoded.insert(decoded.end(), std::make_move_iterator(bent.begin()), std::make_move_iterator(bent.end()));
   }
+  // Every quad decoded so far, parallel to outcomes[first_outcome...] (for the code refit).
+  std::vector<Quad> all_quads;
+  if (opt_.code_refit.enabled) all_quads.assign(found.quads.begin(), found.quads.end());
   // Quads found after the first decoding (the second look, the group look), decoded and traced alike.
   const auto decode_more = [&](const std::vector<Quad>& quads) {
+    if (opt_.code_refit.enabled) all_quads.insert(all_quads.end(), quads.begin(), quads.end());
     auto more = decode_quads(*found.decode_image, quads, families_, opt_.max_hamming, opt_.payload,
                              opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area : nullptr,
                              trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family, &opt_.soft_decode);
@@ -186,6 +191,14 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     if (opt_.group_look.enabled && !opt_.half_resolution)  // group_look.hpp: groups that gave no quad
       decode_more(group_look_quads(gray, workspace.impl().threshold_quads.groups, found.quads, look, again,
                                    opt_.threshold_quads, opt_.second_look, opt_.group_look));
+  }
+  if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their nearest code
+    PayloadAreaOptions area = opt_.payload_area;
+    area.min_contrast = opt_.payload.min_contrast;
+    auto refit = refit_to_nearest_codes(gray, *found.decode_image, all_quads,
+                                        std::span(*outcomes).subspan(first_outcome), decoded, families_,
+                                        opt_.max_hamming, opt_.hamming_by_family, area, opt_.code_refit);
+    decoded.insert(decoded.end(), std::make_move_iterator(refit.begin()), std::make_move_iterator(refit.end()));
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   drop_below_margin(out, opt_.min_decision_margin);

@@ -31,6 +31,7 @@
 #include "payload_area.hpp"
 #include "payload_decode.hpp"
 #include "bent_decode.hpp"
+#include "code_refit.hpp"
 #include "photometric_guard.hpp"
 #include "pose_choice.hpp"
 #include "photometric_refine.hpp"
@@ -182,6 +183,11 @@ struct DetectorOptions {
   // centre line when its border shows two opposite sides bent (bent_decode.hpp). Default profile:
   // on (paper(): off).
   BentReadOptions bent;
+  // Beyond the paper: a quad read but decoded by no family, when its reading is within
+  // code_refit.max_bits of a code of a family of large minimum distance, is placed by that code's
+  // printed pattern (photometric refinement) and read again; kept only when the new reading decodes
+  // to that code (code_refit.hpp). Runs after the second look, on every quad still undecoded.
+  CodeRefitOptions code_refit;
   // Pose: given intrinsics (pixels) and the tag size (metres, > 0).
   std::optional<CameraIntrinsics> camera;
   std::optional<std::array<double, 5>> distortion;  // OpenCV's k1, k2, p1, p2, k3; corners are undistorted first

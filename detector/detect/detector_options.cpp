@@ -120,19 +120,19 @@ void validate_occlusion_refit(const OcclusionRefitOptions& o) {
   finite_at_least("occlusion.min_cell_px", o.min_cell_px, 0);
 }
 
-void validate_photometric(const PhotometricRefineOptions& p) {
-  int_within("photometric.iterations", p.iterations, 1, 100);
-  int_within("photometric.min_pixels", p.min_pixels, 1, kMaxPixelsCeiling);
-  int_within("photometric.max_pixels", p.max_pixels, p.min_pixels, kMaxPixelsCeiling);
-  if (!(p.margin_cells >= 0 && p.margin_cells < 1)) fail("photometric.margin_cells", p.margin_cells, "must be in [0, 1)");
-  finite_above("photometric.band_px", p.band_px, 0);
-  finite_at_least("photometric.pixels_per_side_px", p.pixels_per_side_px, 0);
-  finite_above("photometric.initial_blur_px", p.initial_blur_px, 0);
-  finite_above("photometric.max_corner_shift_px", p.max_corner_shift_px, 0);
-  finite_above("photometric.max_blur_cells", p.max_blur_cells, 0);
-  finite_at_least("photometric.min_black_square_px", p.min_black_square_px, 0);
-  finite_at_least("photometric.huber", p.huber, 0);
-  within("photometric.min_contrast", p.min_contrast, 0, 1);
+void validate_photometric(const std::string& name, const PhotometricRefineOptions& p) {
+  int_within((name + ".iterations").c_str(), p.iterations, 1, 100);
+  int_within((name + ".min_pixels").c_str(), p.min_pixels, 1, kMaxPixelsCeiling);
+  int_within((name + ".max_pixels").c_str(), p.max_pixels, p.min_pixels, kMaxPixelsCeiling);
+  if (!(p.margin_cells >= 0 && p.margin_cells < 1)) fail((name + ".margin_cells").c_str(), p.margin_cells, "must be in [0, 1)");
+  finite_above((name + ".band_px").c_str(), p.band_px, 0);
+  finite_at_least((name + ".pixels_per_side_px").c_str(), p.pixels_per_side_px, 0);
+  finite_above((name + ".initial_blur_px").c_str(), p.initial_blur_px, 0);
+  finite_above((name + ".max_corner_shift_px").c_str(), p.max_corner_shift_px, 0);
+  finite_above((name + ".max_blur_cells").c_str(), p.max_blur_cells, 0);
+  finite_at_least((name + ".min_black_square_px").c_str(), p.min_black_square_px, 0);
+  finite_at_least((name + ".huber").c_str(), p.huber, 0);
+  within((name + ".min_contrast").c_str(), p.min_contrast, 0, 1);
 }
 
 void validate_border_kink(const std::string& name, const BorderKinkOptions& k) {
@@ -157,6 +157,7 @@ DetectorOptions DetectorOptions::paper() {
   o.max_hamming = 1;
   o.hamming_by_family = false;
   o.bent.enabled = false;
+  o.code_refit.enabled = false;
   o.photometric_guard.enabled = false;
   o.pose_choice.enabled = false;
   o.second_look.enabled = false;
@@ -227,7 +228,13 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   if (payload_reader != PayloadReaderKind::kPoint && payload_reader != PayloadReaderKind::kArea)
     fail("payload_reader", static_cast<long long>(payload_reader), "must be kPoint or kArea");
   validate_threshold_quads(threshold_quads);
-  validate_photometric(photometric);
+  validate_photometric("photometric", photometric);
+  validate_photometric("code_refit.refine", code_refit.refine);
+  int_within("code_refit.max_bits", code_refit.max_bits, 0, 64);
+  int_within("code_refit.spare_bits", code_refit.spare_bits, 0, 64);
+  if (code_refit.min_family_hamming < 0) fail("code_refit.min_family_hamming", static_cast<long long>(code_refit.min_family_hamming), "must be >= 0");
+  finite_at_least("code_refit.min_side_px", code_refit.min_side_px, 0);
+  if (!(code_refit.max_side_px >= code_refit.min_side_px)) fail("code_refit.max_side_px", code_refit.max_side_px, "must be >= code_refit.min_side_px");
   validate_occlusion_refit(occlusion);
   finite_above("second_look.max_size_px", second_look.max_size_px, 0);
   finite_at_least("second_look.margin_px", second_look.margin_px, 0);

@@ -99,4 +99,13 @@ Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d
   return q.hnormalized();
 }
 
+bool inside_quad(const Corners& q, const Eigen::Vector2d& p) {
+  int pos = 0;  // sides with p on their left (or on them)
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d e = q[(i + 1) % 4] - q[i], r = p - q[i];
+    pos += e.x() * r.y() - e.y() * r.x() >= 0 ? 1 : 0;
+  }
+  return pos == 4 || pos == 0;
+}
+
 }  // namespace tagbench

@@ -30,6 +30,9 @@ std::optional<Eigen::Matrix3d> tag_homography(const Corners& image_corners);
 // H applied to a point, with the homogeneous division.
 Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d& p);
 
+// Whether p lies inside the convex quad q (either winding); a point on a side counts as inside.
+bool inside_quad(const Corners& q, const Eigen::Vector2d& p);
+
 // The unit-square corners in the order above.
 const Corners& tag_square_corners();
 

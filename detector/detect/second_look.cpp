@@ -7,23 +7,11 @@
 #include "detect/boundaries.hpp"
 #include "detect/components.hpp"
 #include "detect/edge_refine.hpp"
+#include "detect/homography.hpp"
 #include "detect/quad_fit.hpp"
 #include "detect/threshold.hpp"
 
 namespace tagbench {
-
-namespace {
-
-bool inside_quad(const Corners& q, const Eigen::Vector2d& p) {  // convex quad, either winding
-  int pos = 0;  // sides with p on their left (or on them); counted without a branch
-  for (std::size_t i = 0; i < 4; ++i) {
-    const Eigen::Vector2d e = q[(i + 1) % 4] - q[i], r = p - q[i];
-    pos += e.x() * r.y() - e.y() * r.x() >= 0 ? 1 : 0;
-  }
-  return pos == 4 || pos == 0;
-}
-
-}  // namespace
 
 OtsuSplit otsu_split(std::span<const float> values) {
   std::array<double, 256> hist{};

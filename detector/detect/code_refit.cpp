@@ -1,0 +1,102 @@
+#include "detect/code_refit.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+#include "codes/tag_layout.hpp"
+#include "detect/decode_quads.hpp"
+#include "detect/detector.hpp"
+#include "detect/homography.hpp"
+
+namespace tagbench {
+
+namespace {
+
+// The shortest and longest side of a quad (px).
+std::pair<double, double> side_range(const Corners& c) {
+  double lo = INFINITY, hi = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double s = (c[(i + 1) % 4] - c[i]).norm();
+    lo = std::min(lo, s);
+    hi = std::max(hi, s);
+  }
+  return {lo, hi};
+}
+
+// The quad's corners in the printed order of a code seen in `rotation` (decode_quads.hpp).
+Corners printed_order(const Corners& quad, int rotation) {
+  Corners c;
+  for (int i = 0; i < 4; ++i) c[static_cast<std::size_t>(i)] = quad[static_cast<std::size_t>((i + rotation) % 4)];
+  return c;
+}
+
+// One family's hypothesis for one reading, placed and tested; the detection if it holds.
+std::optional<Detection> try_family(const ImageF& gray, const ImageF& decode_image, const Quad& quad, Code reading,
+                                    const TagFamily& family, int corrected, const PayloadAreaOptions& area,
+                                    const CodeRefitOptions& opt) {
+  const auto nearest = family.decode(reading, opt.max_bits);
+  if (!nearest || nearest->hamming <= corrected) return std::nullopt;  // no code near, or decodable already
+  const Corners start = printed_order(quad.corners, nearest->rotation);
+  const auto refined = refine_corners_photometric(gray, tag_cells(family, nearest->id), start, opt.refine);
+  if (!refined) return std::nullopt;
+  const auto H = tag_homography(*refined);
+  if (!H) return std::nullopt;
+  const auto again = read_payload_area(decode_image, *H, family.payload_width(), area);
+  if (!again) return std::nullopt;
+  const auto dec = family.decode(again->bits, corrected - opt.spare_bits);
+  // The refined corners are in printed order: the code must come back unturned.
+  if (!dec || dec->id != nearest->id || dec->rotation != 0) return std::nullopt;
+  Detection d;
+  d.family = family.name();
+  d.id = dec->id;
+  d.hamming = dec->hamming;
+  d.rotation = nearest->rotation;
+  d.decision_margin = again->margin;
+  d.corners = *refined;
+  d.homography = *H;
+  d.center = apply_homography(*H, Eigen::Vector2d::Zero());
+  d.observed_perimeter = quad.observed_perimeter;
+  return d;
+}
+
+}  // namespace
+
+std::vector<Detection> refit_to_nearest_codes(const ImageF& gray, const ImageF& decode_image,
+                                              std::span<const Quad> quads, std::span<QuadOutcome> outcomes,
+                                              std::span<const Detection> decoded,
+                                              std::span<const TagFamily> families, int max_hamming,
+                                              bool hamming_by_family, const PayloadAreaOptions& area,
+                                              const CodeRefitOptions& opt) {
+  std::vector<Detection> found;
+  if (!opt.enabled || outcomes.size() != quads.size()) return found;
+  for (std::size_t qi = 0; qi < quads.size(); ++qi) {
+    QuadOutcome& outcome = outcomes[qi];
+    if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
+    const auto [shortest, longest] = side_range(quads[qi].corners);
+    if (!(shortest >= opt.min_side_px) || !(longest <= opt.max_side_px)) continue;
+    const Eigen::Vector2d centre = 0.25 * (quads[qi].corners[0] + quads[qi].corners[1] + quads[qi].corners[2] + quads[qi].corners[3]);
+    if (std::any_of(decoded.begin(), decoded.end(), [&](const Detection& d) { return inside_quad(d.corners, centre); }))
+      continue;
+    std::optional<Detection> best;
+    for (const TagFamily& f : families) {
+      if (f.min_hamming() < opt.min_family_hamming) continue;
+      const auto& reading = outcome.bits[static_cast<std::size_t>(f.payload_width())];
+      if (!reading) continue;
+      const int corrected = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
+      auto d = try_family(gray, decode_image, quads[qi], *reading, f, corrected, area, opt);
+      if (d && (!best || d->hamming < best->hamming)) best = std::move(d);  // the earlier family on ties
+    }
+    if (!best) continue;
+    outcome.fate = QuadOutcome::Fate::kDecoded;
+    outcome.family = best->family;
+    outcome.id = best->id;
+    outcome.hamming = best->hamming;
+    outcome.decision_margin = best->decision_margin;
+    found.push_back(std::move(*best));
+  }
+  return found;
+}
+
+}  // namespace tagbench
