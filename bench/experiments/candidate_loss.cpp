@@ -93,8 +93,8 @@ struct Diagnosis {
 };
 
 Diagnosis diagnose(const ImageF& img, const Corners& truth, const ThresholdQuadOptions& tq, ThresholdQuadWorkspace& ws) {
-  const TernaryImage& t = ws.ternary;
-  const Components& comp = ws.components;
+  const TernaryImage& t = ws.pass.ternary;
+  const Components& comp = ws.pass.components;
   const auto H = tag_homography(truth);
   if (!H) return {"degenerate", ""};
   const Eigen::Matrix3d Hi = H->inverse();
@@ -153,7 +153,7 @@ Diagnosis diagnose(const ImageF& img, const Corners& truth, const ThresholdQuadO
   if (comp.size[D] < tq.boundaries.min_component_pixels || comp.size[L] < tq.boundaries.min_component_pixels)
     return {"small_component", detail};
   // The pair's group.
-  const BoundaryGroups& g = ws.groups;
+  const BoundaryGroups& g = ws.pass.groups;
   std::size_t gi = g.count();
   for (std::size_t k = 0; k < g.count() && gi == g.count(); ++k) {
     const auto& p = g.group(k)[0];
@@ -202,10 +202,7 @@ int main(int argc, char** argv) {
   }
   const int frames = std::stoi(argv[1]);
   const auto ceiling = read_ceiling(argv[2]);
-  std::string spec;
-  for (int i = 3; i < argc; ++i) spec += std::string(i == 3 ? "" : "/") + argv[i];
-  DetectorOptions opt;
-  apply_detector_variant(opt, spec, "tagbench/" + spec);
+  DetectorOptions opt = detector_options_from_args(std::span<char* const>(argv + 3, static_cast<std::size_t>(argc - 3)));
   opt.families = {"36h11"};
   const Detector det(opt);
   const TagFamily fam = load_family("36h11");
@@ -249,7 +246,7 @@ int main(int argc, char** argv) {
       {  // session 10: does a group_look window hold the tag, and does a window's Otsu look find it?
         GroupLookOptions gl = opt.group_look;
         gl.enabled = true;
-        const auto wins = group_look_windows(ws.groups, trace.quads, img.width, img.height, gl);
+        const auto wins = group_look_windows(ws.pass.groups, trace.quads, img.width, img.height, gl);
         Eigen::Vector2d c = Eigen::Vector2d::Zero();
         for (const auto& p : tag.corners) c += p / 4;
         SecondLookOptions sl = opt.second_look;
@@ -367,7 +364,7 @@ int main(int argc, char** argv) {
                                                            static_cast<std::uint32_t>(fi * 1000 + static_cast<int>(ti))));
         int near = 0;
         bool shrunk = false;
-        const bool hull = hull_seed_decodes(img, ws.groups, tag.corners, tag.id, fam, opt, near, shrunk);
+        const bool hull = hull_seed_decodes(img, ws.pass.groups, tag.corners, tag.id, fam, opt, near, shrunk);
         dg.cls += " hull:" + std::to_string(near) + (hull ? shrunk ? ":shrunk" : ":ok" : ":no");
         const auto t_cs = std::chrono::steady_clock::now();
         dg.cls += " cs:" + std::to_string(centre_scale_decodes(img, tag.corners, tag.id, fam, opt, 5));
@@ -375,7 +372,7 @@ int main(int argc, char** argv) {
         double turn = 0;
         const int cst = centre_scale_turn_decodes(img, tag.corners, tag.id, fam, opt, turn);
         dg.cls += " cst:" + std::to_string(cst) + "@" + std::to_string(static_cast<int>(std::lround(turn)));
-        dg.cls += payload_hull_decodes(img, ws.groups, tag.corners, tag.id, fam, opt) ? " payload:ok" : " payload:no";
+        dg.cls += payload_hull_decodes(img, ws.pass.groups, tag.corners, tag.id, fam, opt) ? " payload:ok" : " payload:no";
       }
       std::printf("frame %d tag %zu id %d px %.1f tilt %.0f ink %.2f paper %.2f light %.2f blur %.2f: %s  %s\n", fi, ti,
                   tag.id, tag.black_square_px, tag.tilt_deg, tag.ink, tag.paper, tag.light, f.degradation.blur_sigma_px,

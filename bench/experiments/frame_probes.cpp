@@ -19,10 +19,7 @@ using namespace tagbench::bench;
 
 int main(int argc, char** argv) {
   if (argc >= 3 && std::string(argv[1]) == "time") {  // frame_probes time FRAMES [KEY=V ...]: stage ms
-    std::string spec;
-    for (int i = 3; i < argc; ++i) spec += std::string(i == 3 ? "" : "/") + argv[i];
-    DetectorOptions opt;
-    apply_detector_variant(opt, spec, "tagbench/" + spec);
+    DetectorOptions opt = detector_options_from_args(std::span<char* const>(argv + 3, static_cast<std::size_t>(argc - 3)));
     opt.families = {"36h11"};
     const Detector det(opt);
     DetectorWorkspace ws;

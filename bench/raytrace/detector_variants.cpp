@@ -153,4 +153,15 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
   }
 }
 
+DetectorOptions detector_options_from_args(std::span<char* const> args) {
+  std::string spec;
+  for (const char* a : args) {
+    if (!spec.empty()) spec += '/';
+    spec += a;
+  }
+  DetectorOptions o;
+  apply_detector_variant(o, spec, "tagbench/" + spec);
+  return o;
+}
+
 }  // namespace tagbench::bench

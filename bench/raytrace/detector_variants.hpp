@@ -15,6 +15,7 @@
 //     second look; soft, soft_*: the soft decoder (soft_decode.hpp); cref, cref_*: the code refit
 //     (code_refit.hpp). detector_variants.cpp maps every key
 //     to its field.
+#include <span>
 #include <string>
 
 #include "detect/detector.hpp"
@@ -24,5 +25,9 @@ namespace tagbench::bench {
 // Applies `spec` ("KEY=V/KEY=V...", possibly empty) to `o`. Throws std::invalid_argument naming the
 // detector `name` for a pair without '=' or an unknown key.
 void apply_detector_variant(DetectorOptions& o, const std::string& spec, const std::string& name);
+
+// The default profile with command-line arguments applied, each one KEY=V (the experiment drivers'
+// `[KEY=V ...]`); throws as apply_detector_variant.
+DetectorOptions detector_options_from_args(std::span<char* const> args);
 
 }  // namespace tagbench::bench

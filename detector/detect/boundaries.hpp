@@ -66,4 +66,16 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
 
 BoundaryGroups group_boundaries(const TernaryImage& img, const Components& comp, const BoundaryOptions& opt = {});
 
+// The buffers of one pass from an image to boundary groups (adaptive_threshold, threshold.hpp;
+// connected_components; group_boundaries), kept between frames: the threshold quad finder's whole
+// image and each crop of its low-contrast look use one each.
+struct BoundaryPassScratch {
+  ThresholdScratch threshold;
+  TernaryImage ternary;
+  Components components;
+  ComponentScratch component_scratch;
+  BoundaryScratch boundary_scratch;
+  BoundaryGroups groups;
+};
+
 }  // namespace tagbench

@@ -1,9 +1,9 @@
 #include "detect/code_refit.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "codes/tag_layout.hpp"
 #include "detect/decode_quads.hpp"

@@ -189,7 +189,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     const std::vector<Quad> again = second_look_quads(gray, found.quads, look, opt_.threshold_quads, opt_.second_look);
     decode_more(again);
     if (opt_.group_look.enabled && !opt_.half_resolution)  // group_look.hpp: groups that gave no quad
-      decode_more(group_look_quads(gray, workspace.impl().threshold_quads.groups, found.quads, look, again,
+      decode_more(group_look_quads(gray, workspace.impl().threshold_quads.pass.groups, found.quads, look, again,
                                    opt_.threshold_quads, opt_.second_look, opt_.group_look));
   }
   if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their nearest code

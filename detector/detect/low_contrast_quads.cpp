@@ -74,11 +74,11 @@ void low_contrast_quads(const ImageF& img, const ThresholdScratch& windows, cons
     for (int y = y0; y <= y1; ++y)
       std::copy_n(img.data.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y) * img.width + x0),
                   s.crop.width, s.crop.data.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(y - y0) * s.crop.width));
-    adaptive_threshold(s.crop, low, s.threshold, s.ternary);
-    connected_components(s.ternary, s.component_scratch, s.components, dark_eight);
-    group_boundaries(s.ternary, s.components, boundaries, s.boundary_scratch, s.groups);
+    adaptive_threshold(s.crop, low, s.pass.threshold, s.pass.ternary);
+    connected_components(s.pass.ternary, s.pass.component_scratch, s.pass.components, dark_eight);
+    group_boundaries(s.pass.ternary, s.pass.components, boundaries, s.pass.boundary_scratch, s.pass.groups);
     s.found.clear();
-    fit_quads(s.groups, s.crop, f, fit_scratch, s.found);
+    fit_quads(s.pass.groups, s.crop, f, fit_scratch, s.found);
     for (Quad& q : s.found) {
       for (auto& p : q.corners) p += Eigen::Vector2d(x0, y0);
       if (opt.ring_check && !outline_has_ring(q.corners, img, ring)) continue;

@@ -60,12 +60,7 @@ struct LowContrastScratch {
   std::vector<int> stack;
   std::vector<FaintRegion> regions;
   ImageF crop;
-  TernaryImage ternary;
-  ThresholdScratch threshold;
-  Components components;
-  ComponentScratch component_scratch;
-  BoundaryScratch boundary_scratch;
-  BoundaryGroups groups;
+  BoundaryPassScratch pass;  // threshold, components, boundaries of one crop
   std::vector<Quad> found;
 };
 

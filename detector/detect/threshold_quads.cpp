@@ -31,20 +31,20 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   const ImageF& th_in = opt.blur_sigma > 0 ? ws.blurred : in;
   st.ms_blur = lap_ms(t);
 
-  adaptive_threshold(th_in, opt.threshold, ws.threshold, ws.ternary);
+  adaptive_threshold(th_in, opt.threshold, ws.pass.threshold, ws.pass.ternary);
   st.ms_threshold = lap_ms(t);
-  connected_components(ws.ternary, ws.component_scratch, ws.components, opt.dark_eight_connected);
+  connected_components(ws.pass.ternary, ws.pass.component_scratch, ws.pass.components, opt.dark_eight_connected);
   st.ms_components = lap_ms(t);
-  group_boundaries(ws.ternary, ws.components, opt.boundaries, ws.boundary_scratch, ws.groups);
+  group_boundaries(ws.pass.ternary, ws.pass.components, opt.boundaries, ws.pass.boundary_scratch, ws.pass.groups);
   st.ms_boundaries = lap_ms(t);
 
   const QuadFitOptions fit = quad_fit_options_for(opt.fit, halve);
-  fit_quads(ws.groups, in, fit, ws.fit, out);
+  fit_quads(ws.pass.groups, in, fit, ws.fit, out);
   if (opt.low_contrast.enabled && (!halve || opt.low_contrast.at_half_resolution)) {
     auto t_low = Clock::now();
     LowContrastPassOptions low = opt.low_contrast;
     if (halve) low.max_size_px /= 2;
-    low_contrast_quads(in, ws.threshold, opt.threshold, opt.dark_eight_connected, opt.boundaries, fit, low, ws.low_contrast, ws.fit,
+    low_contrast_quads(in, ws.pass.threshold, opt.threshold, opt.dark_eight_connected, opt.boundaries, fit, low, ws.low_contrast, ws.fit,
                        out);
     st.ms_low_contrast = lap_ms(t_low);
   }
@@ -62,9 +62,9 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
       if (const auto c = refine_quad_edges(img, q.corners, r, ws.refine)) q.corners = *c;
   }
   st.ms_refine = lap_ms(t);
-  st.components = ws.components.count;
-  st.groups = ws.groups.count();
-  st.boundary_points = ws.groups.points.size();
+  st.components = ws.pass.components.count;
+  st.groups = ws.pass.groups.count();
+  st.boundary_points = ws.pass.groups.points.size();
   st.quads = out.size();
   if (stats) *stats = st;
 }

@@ -48,12 +48,7 @@ struct ThresholdQuadOptions {
 // except the returned vector).
 struct ThresholdQuadWorkspace {
   ImageF half, blurred, blur_tmp;
-  TernaryImage ternary;
-  ThresholdScratch threshold;
-  Components components;
-  ComponentScratch component_scratch;
-  BoundaryScratch boundary_scratch;
-  BoundaryGroups groups;
+  BoundaryPassScratch pass;  // threshold, components, boundaries of the whole image
   QuadFitScratch fit;
   EdgeRefineScratch refine;
   LowContrastScratch low_contrast;

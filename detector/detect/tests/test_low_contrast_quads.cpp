@@ -91,7 +91,7 @@ TEST(LowContrastQuads, FindsTheFaintSquareTheMainPassMisses) {
   opt.enabled = true;
   std::vector<Quad> low;
   QuadFitScratch fs;
-  low_contrast_quads(img, ws.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
+  low_contrast_quads(img, ws.pass.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
                      ws.low_contrast, fs, low);
   ASSERT_EQ(low.size(), 1u);
   EXPECT_LT(worst_corner_error(low[0].corners, faint), 0.3);
@@ -116,12 +116,12 @@ TEST(LowContrastQuads, OffOrFloorNotBelowTheMainOneFindsNothing) {
   LowContrastPassOptions opt;  // enabled = false
   std::vector<Quad> low;
   QuadFitScratch fs;
-  low_contrast_quads(img, ws.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
+  low_contrast_quads(img, ws.pass.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
                      ws.low_contrast, fs, low);
   EXPECT_TRUE(low.empty());
   opt.enabled = true;
   opt.min_contrast = tq.threshold.min_contrast;
-  low_contrast_quads(img, ws.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
+  low_contrast_quads(img, ws.pass.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
                      ws.low_contrast, fs, low);
   EXPECT_TRUE(low.empty());
 }
@@ -141,7 +141,7 @@ TEST(LowContrastQuads, FindsFaintDarkSquaresNotLightOnes) {
   opt.enabled = true;
   std::vector<Quad> low;
   QuadFitScratch fs;
-  low_contrast_quads(img, ws.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
+  low_contrast_quads(img, ws.pass.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
                      ws.low_contrast, fs, low);
   const Corners inner = box(24.5, 24.5, 44.5, 44.5);
   double e = HUGE_VAL;
@@ -152,7 +152,7 @@ TEST(LowContrastQuads, FindsFaintDarkSquaresNotLightOnes) {
   square(light, 25, 25, 20, kGround + 14.0f / 255);
   find_threshold_quads(light, tq, ws, main);
   low.clear();
-  low_contrast_quads(light, ws.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
+  low_contrast_quads(light, ws.pass.threshold, tq.threshold, tq.dark_eight_connected, tq.boundaries, tq.fit, opt,
                      ws.low_contrast, fs, low);
   EXPECT_TRUE(low.empty());
 }

@@ -108,11 +108,11 @@ TEST(QuadFit, TagLikeFrameGivesTheOuterSquareAndWorkspaceIsReused) {
   find_threshold_quads(img, {}, ws, quads);
   ASSERT_EQ(quads.size(), 1u);
   EXPECT_LT(corner_error(quads[0].corners, outer), 0.25);
-  const auto before = std::vector<const void*>{ws.ternary.data.data(), ws.components.label.data(),
-                                               ws.groups.points.data(), ws.boundary_scratch.keys.data()};
+  const auto before = std::vector<const void*>{ws.pass.ternary.data.data(), ws.pass.components.label.data(),
+                                               ws.pass.groups.points.data(), ws.pass.boundary_scratch.keys.data()};
   find_threshold_quads(img, {}, ws, quads);
-  const auto after = std::vector<const void*>{ws.ternary.data.data(), ws.components.label.data(),
-                                              ws.groups.points.data(), ws.boundary_scratch.keys.data()};
+  const auto after = std::vector<const void*>{ws.pass.ternary.data.data(), ws.pass.components.label.data(),
+                                              ws.pass.groups.points.data(), ws.pass.boundary_scratch.keys.data()};
   EXPECT_EQ(before, after);
 }
 
