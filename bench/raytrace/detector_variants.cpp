@@ -95,6 +95,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "bent") o.bent.enabled = x != 0;
     else if (k == "cref") o.code_refit.enabled = x != 0;
     else if (k == "cref_bits") o.code_refit.max_bits = static_cast<int>(x);
+    else if (k == "cref_weak") o.code_refit.max_weak_distance = x;
     else if (k == "cref_spare") o.code_refit.spare_bits = static_cast<int>(x);
     else if (k == "cref_fam") o.code_refit.min_family_hamming = static_cast<int>(x);
     else if (k == "cref_min") o.code_refit.min_side_px = x;

@@ -9,6 +9,7 @@
 #include "detect/decode_quads.hpp"
 #include "detect/detector.hpp"
 #include "detect/homography.hpp"
+#include "detect/soft_decode.hpp"
 
 namespace tagbench {
 
@@ -36,10 +37,22 @@ Corners printed_order(const Corners& quad, int rotation) {
 std::optional<Detection> try_family(const ImageF& gray, const ImageF& decode_image, const Quad& quad, Code reading,
                                     const TagFamily& family, int corrected, const PayloadAreaOptions& area,
                                     const CodeRefitOptions& opt) {
-  const auto nearest = family.decode(reading, opt.max_bits);
-  if (!nearest || nearest->hamming <= corrected) return std::nullopt;  // no code near, or decodable already
-  const Corners start = printed_order(quad.corners, nearest->rotation);
-  const auto refined = refine_corners_photometric(gray, tag_cells(family, nearest->id), start, opt.refine);
+  // Cheap first: a code within max_bits at all (a scan of the family's words).
+  if (const auto near = family.decode(reading, opt.max_bits); !near || near->hamming <= corrected) return std::nullopt;
+  // The hypothesis: the likeliest codeword under the cells' confidences (soft_decode.hpp), kept only
+  // when the cells it disagrees with are weak (a misplaced quad reads the cells it straddles near
+  // their threshold; texture reads its wrong cells as firmly as its right ones).
+  const auto H0 = tag_homography(quad.corners);
+  if (!H0) return std::nullopt;
+  const auto first = read_payload_area(decode_image, *H0, family.payload_width(), area);
+  if (!first) return std::nullopt;
+  const SoftMatch soft = soft_match(family, first->confidence);
+  if (soft.best < 0 || soft.best_bit_errors > opt.max_bits || soft.best_bit_errors <= corrected ||
+      !(soft.best_distance <= opt.max_weak_distance))
+    return std::nullopt;
+  const DecodeResult hypothesis{soft.best / 4, soft.best_bit_errors, soft.best % 4};
+  const Corners start = printed_order(quad.corners, hypothesis.rotation);
+  const auto refined = refine_corners_photometric(gray, tag_cells(family, hypothesis.id), start, opt.refine);
   if (!refined) return std::nullopt;
   const auto H = tag_homography(*refined);
   if (!H) return std::nullopt;
@@ -47,12 +60,12 @@ std::optional<Detection> try_family(const ImageF& gray, const ImageF& decode_ima
   if (!again) return std::nullopt;
   const auto dec = family.decode(again->bits, corrected - opt.spare_bits);
   // The refined corners are in printed order: the code must come back unturned.
-  if (!dec || dec->id != nearest->id || dec->rotation != 0) return std::nullopt;
+  if (!dec || dec->id != hypothesis.id || dec->rotation != 0) return std::nullopt;
   Detection d;
   d.family = family.name();
   d.id = dec->id;
   d.hamming = dec->hamming;
-  d.rotation = nearest->rotation;
+  d.rotation = hypothesis.rotation;
   d.decision_margin = again->margin;
   d.corners = *refined;
   d.homography = *H;

@@ -232,6 +232,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   validate_photometric("code_refit.refine", code_refit.refine);
   int_within("code_refit.max_bits", code_refit.max_bits, 0, 64);
   int_within("code_refit.spare_bits", code_refit.spare_bits, 0, 64);
+  finite_at_least("code_refit.max_weak_distance", code_refit.max_weak_distance, 0);
   if (code_refit.min_family_hamming < 0) fail("code_refit.min_family_hamming", static_cast<long long>(code_refit.min_family_hamming), "must be >= 0");
   finite_at_least("code_refit.min_side_px", code_refit.min_side_px, 0);
   if (!(code_refit.max_side_px >= code_refit.min_side_px)) fail("code_refit.max_side_px", code_refit.max_side_px, "must be >= code_refit.min_side_px");

@@ -95,7 +95,8 @@ TEST(CodeRefit, MisplacedQuadOfASmallTagIsPlacedAndDecoded) {
 }
 
 // Off, a family too close for the hypothesis (min_family_hamming above 36h11's 11), a hypothesis
-// bound below the misreading, a quad outside the side range or inside a tag already found: nothing.
+// bound below the misreading, no disagreement weak enough, a quad outside the side range or inside a
+// tag already found: nothing.
 TEST(CodeRefit, GatesKeepItFromTrying) {
   const auto m = misplaced_quad();
   ASSERT_TRUE(m.has_value());
@@ -109,6 +110,9 @@ TEST(CodeRefit, GatesKeepItFromTrying) {
   CodeRefitOptions tight;
   tight.max_bits = m->bits_wrong - 1;
   EXPECT_TRUE(refit(*m, {}, tight).empty());
+  CodeRefitOptions firm_only;  // every disagreeing cell counts as firm: no hypothesis is weak enough
+  firm_only.max_weak_distance = 0;
+  EXPECT_TRUE(refit(*m, {}, firm_only).empty());
   CodeRefitOptions large_only;
   large_only.min_side_px = 30;
   EXPECT_TRUE(refit(*m, {}, large_only).empty());
@@ -158,6 +162,10 @@ TEST(CodeRefit, TextureGivesNoDetection) {
     if (o.fate == QuadOutcome::Fate::kNotDecoded && f.decode(*o.bits[6], 7)) ++hypotheses;
   EXPECT_GT(hypotheses, 20);  // the test exercises the placement, not only the gate
   EXPECT_TRUE(refit_to_nearest_codes(img, img, quads, outcomes, first, fams, 3, true, a, CodeRefitOptions{}).empty());
+  // Not even when every hypothesis is placed (no weak-disagreement test): the re-read refuses them.
+  CodeRefitOptions every;
+  every.max_weak_distance = 1e9;
+  EXPECT_TRUE(refit_to_nearest_codes(img, img, quads, outcomes, first, fams, 3, true, a, every).empty());
 }
 
 // The profiles: on in the default, off in the paper's; its options are validated by name.
