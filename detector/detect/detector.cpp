@@ -192,7 +192,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       decode_more(group_look_quads(gray, workspace.impl().threshold_quads.pass.groups, found.quads, look, again,
                                    opt_.threshold_quads, opt_.second_look, opt_.group_look));
   }
-  if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their nearest code
+  if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their likeliest code
     PayloadAreaOptions area = opt_.payload_area;
     area.min_contrast = opt_.payload.min_contrast;
     auto refit = refit_to_nearest_codes(gray, *found.decode_image, all_quads,
