@@ -82,10 +82,7 @@ std::vector<Detection> decode_bent_quads(const ImageF& gray, const ImageF& decod
   for (std::size_t qi = 0; qi < quads.size(); ++qi) {
     QuadOutcome& outcome = outcomes[qi];
     if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
-    const auto& qc = quads[qi].corners;
-    double shortest = INFINITY;
-    for (std::size_t i = 0; i < 4; ++i) shortest = std::min(shortest, (qc[(i + 1) % 4] - qc[i]).norm());
-    if (!(shortest >= opt.min_side_px)) continue;
+    if (!(side_length_range(quads[qi].corners).first >= opt.min_side_px)) continue;
     BorderKinkOptions k = opt.kink;
     k.cells_across = max_d + 2;
     BorderKinkOptions quick = k;
@@ -116,22 +113,13 @@ std::vector<Detection> decode_bent_quads(const ImageF& gray, const ImageF& decod
       }
       Detection best;
       if (!decode_readings(families, by_width, max_hamming, hamming_by_family, best)) continue;
-      const auto H = [&] {
-        Corners c;
-        for (int i = 0; i < 4; ++i)
-          c[static_cast<std::size_t>(i)] = fold->corners[static_cast<std::size_t>((i + best.rotation) % 4)];
-        best.corners = c;
-        return tag_homography(c);
-      }();
+      best.corners = printed_corners(fold->corners, best.rotation);
+      const auto H = tag_homography(best.corners);
       if (!H) continue;
       best.homography = *H;
       best.center = apply_homography(*H, Eigen::Vector2d::Zero());
       best.observed_perimeter = quads[qi].observed_perimeter;
-      outcome.fate = QuadOutcome::Fate::kDecoded;
-      outcome.family = best.family;
-      outcome.id = best.id;
-      outcome.hamming = best.hamming;
-      outcome.decision_margin = best.decision_margin;
+      mark_decoded(outcome, best);
       found.push_back(std::move(best));
     }
   }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <utility>
 
 #include "codes/tag_layout.hpp"
 #include "detect/decode_quads.hpp"
@@ -14,24 +13,6 @@
 namespace tagbench {
 
 namespace {
-
-// The shortest and longest side of a quad (px).
-std::pair<double, double> side_range(const Corners& c) {
-  double lo = INFINITY, hi = 0;
-  for (std::size_t i = 0; i < 4; ++i) {
-    const double s = (c[(i + 1) % 4] - c[i]).norm();
-    lo = std::min(lo, s);
-    hi = std::max(hi, s);
-  }
-  return {lo, hi};
-}
-
-// The quad's corners in the printed order of a code seen in `rotation` (decode_quads.hpp).
-Corners printed_order(const Corners& quad, int rotation) {
-  Corners c;
-  for (int i = 0; i < 4; ++i) c[static_cast<std::size_t>(i)] = quad[static_cast<std::size_t>((i + rotation) % 4)];
-  return c;
-}
 
 // One family's hypothesis for one reading, placed and tested; the detection if it holds.
 std::optional<Detection> try_family(const ImageF& gray, const ImageF& decode_image, const Quad& quad, Code reading,
@@ -51,7 +32,7 @@ std::optional<Detection> try_family(const ImageF& gray, const ImageF& decode_ima
       !(soft.best_distance <= opt.max_weak_distance))
     return std::nullopt;
   const DecodeResult hypothesis{soft.best / 4, soft.best_bit_errors, soft.best % 4};
-  const Corners start = printed_order(quad.corners, hypothesis.rotation);
+  const Corners start = printed_corners(quad.corners, hypothesis.rotation);
   const auto refined = refine_corners_photometric(gray, tag_cells(family, hypothesis.id), start, opt.refine);
   if (!refined) return std::nullopt;
   const auto H = tag_homography(*refined);
@@ -87,9 +68,10 @@ std::vector<Detection> refit_to_nearest_codes(const ImageF& gray, const ImageF& 
   for (std::size_t qi = 0; qi < quads.size(); ++qi) {
     QuadOutcome& outcome = outcomes[qi];
     if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
-    const auto [shortest, longest] = side_range(quads[qi].corners);
+    const auto [shortest, longest] = side_length_range(quads[qi].corners);
     if (!(shortest >= opt.min_side_px) || !(longest <= opt.max_side_px)) continue;
-    const Eigen::Vector2d centre = 0.25 * (quads[qi].corners[0] + quads[qi].corners[1] + quads[qi].corners[2] + quads[qi].corners[3]);
+    const auto& c = quads[qi].corners;
+    const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
     if (std::any_of(decoded.begin(), decoded.end(), [&](const Detection& d) { return inside_quad(d.corners, centre); }))
       continue;
     std::optional<Detection> best;
@@ -102,11 +84,7 @@ std::vector<Detection> refit_to_nearest_codes(const ImageF& gray, const ImageF& 
       if (d && (!best || d->hamming < best->hamming)) best = std::move(d);  // the earlier family on ties
     }
     if (!best) continue;
-    outcome.fate = QuadOutcome::Fate::kDecoded;
-    outcome.family = best->family;
-    outcome.id = best->id;
-    outcome.hamming = best->hamming;
-    outcome.decision_margin = best->decision_margin;
+    mark_decoded(outcome, *best);
     found.push_back(std::move(*best));
   }
   return found;

@@ -12,11 +12,11 @@
 //      code's whole printed pattern (photometric_refine.hpp, with a wider reach than the final
 //      refinement's: `refine`);
 //   3. test: the payload read again through the refined corners (payload_area.hpp) must decode,
-//      within the family's own corrected bits, to the same code in the same rotation.
+//      within the family's corrected bits less spare_bits, to the same code in the same rotation.
 // The refinement is fitted to the hypothesis, so step 3 is not an independent reading; what keeps a
 // false hypothesis out is that a homography (8 parameters) cannot make a 36-bit reading agree with a
 // code it is far from, and only families with a large minimum distance are tried (on the corpus,
-// results/falsepos_detectors.csv measures what it lets through). Flat tags that decode never reach
+// results/fp_detectors.csv measures what it lets through). Flat tags that decode never reach
 // this stage: it costs nothing on them.
 //
 // A detection found here carries the refined corners (TL, TR, BR, BL of the printed tag, as
@@ -37,7 +37,7 @@ struct QuadOutcome;  // detector.hpp
 
 struct CodeRefitOptions {
   bool enabled = true;          // DetectorOptions::paper(): off
-  int max_bits = 7;             // the hypothesis: the nearest code within this many bits of the reading
+  int max_bits = 7;             // the hypothesis at most this many bits from the reading
   int min_family_hamming = 10;  // only families at least this far apart (36h11, 36h10; not 25h9, 16h5)
   // The re-read must decode within the family's corrected bits less this many: a placement fitted to
   // the hypothesis leans the reading toward it, so the test is stricter than a first reading's.

@@ -54,6 +54,14 @@ bool soft_decode_readings(std::span<const TagFamily> families,
       best);
 }
 
+void mark_decoded(QuadOutcome& outcome, const Detection& d) {
+  outcome.fate = QuadOutcome::Fate::kDecoded;
+  outcome.family = d.family;
+  outcome.id = d.id;
+  outcome.hamming = d.hamming;
+  outcome.decision_margin = d.decision_margin;
+}
+
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,
                                     const PayloadOptions& payload, const PayloadAreaOptions* area,
@@ -98,14 +106,9 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
       for (auto& r : by_width)
         if (r) readings->push_back(std::move(*r));
     if (!have) continue;
-    outcome.fate = QuadOutcome::Fate::kDecoded;
-    outcome.family = best.family;
-    outcome.id = best.id;
-    outcome.hamming = best.hamming;
-    outcome.decision_margin = best.decision_margin;
+    mark_decoded(outcome, best);
     // The printed top-left corner is quad corner `rotation` (observed = rotate90^r(code)).
-    for (int i = 0; i < 4; ++i)
-      best.corners[static_cast<std::size_t>(i)] = q.corners[static_cast<std::size_t>((i + best.rotation) % 4)];
+    best.corners = printed_corners(q.corners, best.rotation);
     best.homography = *tag_homography(best.corners);
     best.center = apply_homography(best.homography, Eigen::Vector2d::Zero());
     best.observed_perimeter = q.observed_perimeter;

@@ -47,6 +47,10 @@ bool soft_decode_readings(std::span<const TagFamily> families,
                           std::span<const std::optional<PayloadReading>> by_width, const SoftDecodeOptions& soft,
                           Detection& best);
 
+// Records in `outcome` that its quad became the detection `d` (kDecoded, family, id, hamming, margin):
+// decode_quads and the later second chances (bent_decode.hpp, code_refit.hpp) alike.
+void mark_decoded(QuadOutcome& outcome, const Detection& d);
+
 // `soft`, if given and enabled, decodes soft the quads no family decoded hard (soft_decode_readings).
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,
                                     std::span<const TagFamily> families, int max_hamming,

@@ -99,6 +99,21 @@ Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d
   return q.hnormalized();
 }
 
+Corners printed_corners(const Corners& quad, int rotation) {
+  Corners c;
+  for (int i = 0; i < 4; ++i) c[static_cast<std::size_t>(i)] = quad[static_cast<std::size_t>((i + rotation) % 4)];
+  return c;
+}
+
+std::pair<double, double> side_length_range(const Corners& quad) {
+  double shortest = HUGE_VAL, longest = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double len = (quad[(i + 1) % 4] - quad[i]).norm();
+    shortest = std::min(shortest, len), longest = std::max(longest, len);
+  }
+  return {shortest, longest};
+}
+
 bool inside_quad(const Corners& q, const Eigen::Vector2d& p) {
   int pos = 0;  // sides with p on their left (or on them)
   for (std::size_t i = 0; i < 4; ++i) {

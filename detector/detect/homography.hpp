@@ -10,6 +10,7 @@
 #include <array>
 #include <optional>
 #include <span>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -32,6 +33,13 @@ Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d
 
 // Whether p lies inside the convex quad q (either winding); a point on a side counts as inside.
 bool inside_quad(const Corners& q, const Eigen::Vector2d& p);
+
+// A quad's corners re-ordered so that its corner `rotation` (0..3) comes first: the printed order
+// TL, TR, BR, BL of a code read through the quad in that rotation (decode_quads.hpp).
+Corners printed_corners(const Corners& quad, int rotation);
+
+// The shortest and the longest side of a quad (px).
+std::pair<double, double> side_length_range(const Corners& quad);
 
 // The unit-square corners in the order above.
 const Corners& tag_square_corners();

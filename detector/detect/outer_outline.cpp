@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "detect/homography.hpp"
 #include "detect/payload_decode.hpp"
 #include "detect/quad_fit.hpp"
 
@@ -85,11 +86,7 @@ bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOpt
   if (!every_side || sum / 16 < opt.ring_min_step) return false;
   // The shape: the shortest side at least min_side_ratio of the longest (a square tilted 65 degrees
   // away keeps about 0.4); the slivers an outline of texture gives fail here.
-  double shortest = HUGE_VAL, longest = 0;
-  for (std::size_t i = 0; i < 4; ++i) {
-    const double len = (q[(i + 1) & 3] - q[i]).norm();
-    shortest = std::min(shortest, len), longest = std::max(longest, len);
-  }
+  const auto [shortest, longest] = side_length_range(q);
   return shortest >= opt.min_side_ratio * longest;
 }
 
