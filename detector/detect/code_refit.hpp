@@ -47,8 +47,8 @@ struct CodeRefitOptions {
   // with is at most this (in mean confidences; soft decoding accepts 1.5 unverified): most quads on
   // texture fail it, and each one tried costs a refinement (ray-traced frames at half resolution:
   // +6.7 % time without this test, none measurable with it; realistic set 1012 of 1384 tags at 3,
-  // 1014 at 4.5 or without the test, 1007 at 2; session 15).
-  double max_weak_distance = 3.0;
+  // 1014 at 4.5 or without the test, 1007 at 2, seed 2 972 at 3 and 974 at 4.5; sessions 15-16).
+  double max_weak_distance = 4.5;
   double min_side_px = 8;       // quads whose shortest side is under this are left alone (px)
   double max_side_px = 64;      // and those whose longest side is over this (px): a large tag's quad is
                                 // accurate already, and its refinement costs more
