@@ -224,6 +224,12 @@ PointExplanation explain_point(const ExplainPoint& p, const DetectorTrace& trace
   const std::string radius = num(kExplainRadiusPx) + " px";
   const std::string quad_note =
       std::isfinite(nearest_quad) ? " (the nearest candidate quad is " + num(nearest_quad) + " px away)" : "";
+  if (opt.quad_finder == QuadFinderKind::kThreshold) {  // no clusters or segments to speak of
+    out.stage = "no_quad";
+    out.text = "no candidate quad holds the point: no outline of a dark square there in the adaptive threshold's "
+               "classes" + quad_note;
+    return out;
+  }
   if (segments > 0) {
     out.stage = "no_quad";
     out.text = std::to_string(segments) + " segments within " + radius + ", but no candidate quad holds the point" +

@@ -102,13 +102,20 @@ TEST(CliExplain, FlippedCellsAreAMisreadWithTheirCount) {
   EXPECT_EQ(field(ok.out, "stage", ok.out.find("\"explain\"")), "detected");
 }
 
-TEST(CliExplain, AFlatImageHasNoClusterAndCsvSaysItOnStderr) {
+TEST(CliExplain, AFlatImageHasNoQuadOrNoClusterByProfileAndCsvSaysItOnStderr) {
   const fs::path img = scratch() / "flat.png";
   cv::imwrite(img.string(), cv::Mat(100, 120, CV_8UC1, cv::Scalar(128)));
+  // The default profile's threshold quad finder has no gradient clusters or segments: no_quad.
   const auto r = run(img.string() + " --format csv --explain 60,50");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.out.find("\"explain\""), std::string::npos) << r.out;
-  EXPECT_EQ(r.err, "tagbench detect: " + img.string() + ": explain 60,50: no_cluster: no gradient cluster within 50 px\n");
+  EXPECT_EQ(r.err, "tagbench detect: " + img.string() +
+                       ": explain 60,50: no_quad: no candidate quad holds the point: no outline of a dark square there "
+                       "in the adaptive threshold's classes\n");
+  // The paper's gradient pipeline says how far it got.
+  const auto paper = run(img.string() + " --profile paper --format csv --explain 60,50");
+  ASSERT_EQ(paper.code, 0) << paper.err;
+  EXPECT_EQ(paper.err, "tagbench detect: " + img.string() + ": explain 60,50: no_cluster: no gradient cluster within 50 px\n");
 }
 
 TEST(CliExplain, BadPointsAreUsageErrors) {
