@@ -188,7 +188,7 @@ struct DetectorOptions {
   // disagreeing, is placed by that code's printed pattern (photometric refinement) and read again;
   // kept only when the new reading decodes to that code (code_refit.hpp). Runs after the second look,
   // on every quad still undecoded. Default profile on; paper(): off. Realistic set (200 frames, seed
-  // 1): 20-24 px 156 -> 159 of 188, all sizes 1005 -> 1012 of 1384, no wrong id (issue 17, session 15).
+  // 1): 20-24 px 156 -> 159 of 188, all sizes 1005 -> 1014 of 1384, no wrong id (issue 17, sessions 15-16).
   CodeRefitOptions code_refit;
   // Pose: given intrinsics (pixels) and the tag size (metres, > 0).
   std::optional<CameraIntrinsics> camera;

@@ -143,6 +143,11 @@ TEST(ExplainLoss, MissingSidesAndClustersAreCounted) {
   for (int x = 20; x < 30; ++x) half.clusters.pixels.push_back(ClusterPixel{x, static_cast<int>((truth[0].y() - 0.5) / 2)});
   half.clusters.offsets = {0, half.clusters.pixels.size()};
   EXPECT_EQ(explain_loss({&f, 1, truth}, half, {}, o).stage, LossStage::kNoSegment);
+  // The threshold quad finder (the default profile) has no clusters or segments: it loses at no_quad.
+  DetectorOptions threshold = DetectorOptions{};
+  threshold.families = {"25h9"};
+  ASSERT_EQ(threshold.quad_finder, QuadFinderKind::kThreshold);
+  EXPECT_EQ(explain_loss({&f, 1, truth}, DetectorTrace{}, {}, threshold).stage, LossStage::kNoQuad);
 }
 
 TEST(ExplainLoss, BadTruthIsRefused) {
