@@ -147,8 +147,8 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
   }
   const std::string nearest_text =
       std::isfinite(nearest) ? format(" (the nearest quad is %.3g px off at its worst corner)", nearest) : "";
-  const bool gradient_finder = !trace.segments.empty() || trace.clusters.size() > 0;
-  if (!gradient_finder) {
+  // The threshold quad finder has no clusters or segments to speak of: its loss before a quad is no_quad.
+  if (options.quad_finder != QuadFinderKind::kGradient) {
     out.stage = LossStage::kNoQuad;
     out.text = "no candidate quad matches the tag's corners" + nearest_text;
     return out;

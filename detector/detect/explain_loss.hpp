@@ -6,7 +6,8 @@
 // The stages, first to last, and how each is told from the trace (DetectorTrace, with
 // quad_outcomes):
 //   no_cluster     no gradient cluster has pixels along the tag's border (within `tolerance` of its
-//                  sides): the segmentation saw no edge there (gradient quad finders only)
+//                  sides): the segmentation saw no edge there (options.quad_finder kGradient only; the
+//                  threshold quad finder's losses before a quad are all no_quad)
 //   no_segment     clusters along the border, but fitted segments on fewer than 4 of the sides; the
 //                  explanation says on how many ("segments on 2 of 4 sides")
 //   no_quad        segments on all 4 sides (or, for a quad finder without segments, simply no

@@ -148,6 +148,9 @@ TEST(ExplainLoss, MissingSidesAndClustersAreCounted) {
   threshold.families = {"25h9"};
   ASSERT_EQ(threshold.quad_finder, QuadFinderKind::kThreshold);
   EXPECT_EQ(explain_loss({&f, 1, truth}, DetectorTrace{}, {}, threshold).stage, LossStage::kNoQuad);
+  // The gradient finder with nothing at all in its trace (a frame without one cluster) loses at no_cluster:
+  // the finder is told by the options, not guessed from the trace.
+  EXPECT_EQ(explain_loss({&f, 1, truth}, DetectorTrace{}, {}, o).stage, LossStage::kNoCluster);
 }
 
 TEST(ExplainLoss, BadTruthIsRefused) {
