@@ -50,6 +50,11 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        gradient_magnitude, gradient_direction, clusters (at the segmentation's
                        resolution: half size with --half-res), segments (notch toward the light side)
                        (these four with --profile paper only: the default profile has no gradients),
+                       threshold (the default profile's pixel classes: dark black, light white, too
+                       little contrast grey) and boundaries (each boundary group's dark side in its
+                       colour; grey: too small to fit) (these two at the threshold's resolution, without
+                       --profile paper: where a tag has no quad they show its square joined to a dark
+                       neighbour, its ring broken or its outline split among groups),
                        quads (every candidate; dot on its first corner), samples (the detected tags'
                        sample points: white ring white, black ring black, payload yellow)
   --threads T          images processed in parallel (default: all cores); output order is input order

@@ -204,6 +204,31 @@ std::vector<cv::Mat> stage_pictures(const ImageF& gray, const DetectorTrace& tr,
     pics.push_back(m);
   }
   }  // gradient stages
+  // The threshold quad finder's stages, at the segmentation's resolution (none for the gradient finder).
+  if (tr.threshold_classes.data.empty()) {
+    pics.push_back(cv::Mat());
+    pics.push_back(cv::Mat());
+  } else {
+    // Every pixel's class: dark black, light white, unknown (too little contrast around it) grey.
+    const TernaryImage& t = tr.threshold_classes;
+    pics.push_back(cv::Mat(t.height, t.width, CV_8UC1, const_cast<std::uint8_t*>(t.data.data())).clone());
+    // Each boundary group's dark side in its own seeded colour over the dimmed image; groups too
+    // small for the quad fit (under min_points) dark grey.
+    const ImageF& base = tr.segmentation_input.empty() ? gray : tr.segmentation_input;
+    cv::Mat m = gray_bgr(base, 0.35);
+    const BoundaryGroups& g = tr.boundary_groups;
+    const std::size_t min_points = static_cast<std::size_t>(std::max(0, opt.threshold_quads.fit.min_points));
+    for (std::size_t k = 0; k < g.count(); ++k) {
+      const auto pts = g.group(k);
+      const cv::Scalar c = pts.size() >= min_points ? seeded_colour(k) : cv::Scalar(90, 90, 90);
+      const cv::Vec3b v(static_cast<std::uint8_t>(c[0]), static_cast<std::uint8_t>(c[1]), static_cast<std::uint8_t>(c[2]));
+      for (const BoundaryPoint& p : pts) {
+        const int x = (p.x2 - p.gx) / 2, y = (p.y2 - p.gy) / 2;  // the point's dark pixel
+        if (x >= 0 && y >= 0 && x < m.cols && y < m.rows) m.at<cv::Vec3b>(y, x) = v;
+      }
+    }
+    pics.push_back(m);
+  }
   // Every candidate quad; a dot on its first corner.
   {
     cv::Mat m = gray_bgr(gray, 0.5);

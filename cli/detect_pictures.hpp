@@ -15,9 +15,11 @@ namespace tagbench::cli {
 cv::Mat draw_detections(const cv::Mat& image, const std::vector<Detection>& dets, const DetectorOptions& opt,
                         bool several_families);
 
-// Names of the six stage pictures, in the order stage_pictures returns them.
-inline constexpr const char* kStages[] = {"gradient_magnitude", "gradient_direction", "clusters", "segments", "quads",
-                                          "samples"};
+// Names of the eight stage pictures, in the order stage_pictures returns them. The gradient
+// finder (the paper profile) has the first four, the threshold finder (the default profile) the
+// next two; quads and samples are every profile's. A stage a profile lacks is an empty Mat.
+inline constexpr const char* kStages[] = {"gradient_magnitude", "gradient_direction", "clusters", "segments",
+                                          "threshold",          "boundaries",         "quads",    "samples"};
 std::vector<cv::Mat> stage_pictures(const ImageF& gray, const DetectorTrace& trace, const std::vector<Detection>& dets,
                                     const Detector& det);
 

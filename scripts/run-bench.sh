@@ -28,6 +28,9 @@ mkdir -p results/debug
 "$BIN" scene --width 640 --height 480 --count 6 --seed 3 -o results/example_scene.png
 "$BIN" detect results/example_scene.png --profile paper --draw results/example_detections.png --debug-dir results/debug \
   --camera 500,500,319.5,239.5 --tag-size 0.1 > results/example_detections.json
+# The default profile's own stage pictures (threshold classes, boundary groups, quads) of the same scene.
+mkdir -p results/debug/default
+"$BIN" detect results/example_scene.png --debug-dir results/debug/default > /dev/null
 
 echo "bench: our per-stage times on synthetic scenes beside libapriltag and OpenCV aruco (Google Benchmark)" >&2
 "$BUILD/bench/bench_detector" --benchmark_out="$tmp" --benchmark_out_format=json --benchmark_min_time=0.5 >&2

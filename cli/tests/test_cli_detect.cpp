@@ -484,7 +484,8 @@ TEST(CliDetect, DebugDirWritesTheSixStages) {
     ASSERT_EQ(parse_json(r.out)["images"][0]["detections"].size(), 1u);
     std::size_t files = 0;
     for (const auto& e : fs::directory_iterator(dbg)) files += e.is_regular_file() ? 1 : 0;
-    EXPECT_EQ(files, 6u);
+    EXPECT_EQ(files, 6u);  // no threshold or boundaries picture: the paper profile has no threshold stage
+    EXPECT_FALSE(fs::exists(dbg / "in_threshold.png"));
     for (const char* s : stages) {
       const cv::Mat m = cv::imread((dbg / (std::string("in_") + s + ".png")).string(), cv::IMREAD_COLOR);
       ASSERT_FALSE(m.empty()) << s;
@@ -559,6 +560,38 @@ TEST(CliDetect, ProfilesAreNamedAndTheDefaultHasNoGradientPictures) {
   EXPECT_TRUE(fs::exists(dbg / "in_quads.png"));
   EXPECT_TRUE(fs::exists(dbg / "in_samples.png"));
   EXPECT_FALSE(fs::exists(dbg / "in_clusters.png"));
+  // The threshold finder's own stages: its pixel classes and boundary groups. The tag (k = 12 px a
+  // cell at (50, 40)): white ring x in [50, 62), black ring [62, 74); next to the step each side is
+  // classed, inside a wide flat band (2 px tiles: a 6 px window) and on the flat canvas unknown.
+  const cv::Mat classes = cv::imread((dbg / "in_threshold.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(classes.type(), CV_8UC1);
+  ASSERT_EQ(classes.cols, 240);
+  ASSERT_EQ(classes.rows, 200);
+  for (int y = 0; y < classes.rows; ++y)
+    for (int x = 0; x < classes.cols; ++x) {
+      const int v = classes.at<std::uint8_t>(y, x);
+      ASSERT_TRUE(v == 0 || v == 127 || v == 255) << x << "," << y << ": " << v;
+    }
+  EXPECT_EQ(classes.at<std::uint8_t>(94, 61), 255);  // white ring
+  EXPECT_EQ(classes.at<std::uint8_t>(94, 62), 0);    // black ring
+  EXPECT_EQ(classes.at<std::uint8_t>(94, 68), 127);  // the black ring's flat middle
+  EXPECT_EQ(classes.at<std::uint8_t>(5, 5), 127);    // flat canvas
+  const cv::Mat groups = cv::imread((dbg / "in_boundaries.png").string(), cv::IMREAD_COLOR);
+  ASSERT_EQ(groups.cols, 240);
+  const auto coloured = [&](int x, int y) {
+    const cv::Vec3b c = groups.at<cv::Vec3b>(y, x);
+    return !(c[0] == c[1] && c[1] == c[2]);
+  };
+  EXPECT_TRUE(coloured(62, 94));   // the black ring's outer edge (its dark side) belongs to a group
+  EXPECT_FALSE(coloured(68, 94));  // inside the ring: no boundary
+  EXPECT_FALSE(coloured(5, 5));
+  // At half resolution both are at the threshold's (half) resolution.
+  const fs::path dbg_half = dir / "dbg_half";
+  ASSERT_EQ(run("detect --family 25h9 --half-res " + q(dir / "in.png") + " --debug-dir " + q(dbg_half)).code, 0);
+  const cv::Mat half_classes = cv::imread((dbg_half / "in_threshold.png").string(), cv::IMREAD_UNCHANGED);
+  EXPECT_EQ(half_classes.cols, 120);
+  EXPECT_EQ(half_classes.rows, 100);
+  EXPECT_EQ(cv::imread((dbg_half / "in_boundaries.png").string(), cv::IMREAD_COLOR).cols, 120);
   const Result p = run("detect --profile paper --family 25h9 " + q(dir / "in.png"));
   ASSERT_EQ(p.code, 0) << p.err;
   EXPECT_EQ(parse_json(p.out)["options"]["profile"].str, "paper");

@@ -316,6 +316,14 @@ struct DetectorTrace {
   ImageF gradient_magnitude, gradient_direction;
   Clusters clusters;              // in segmentation_input's pixels
   std::vector<Segment> segments;  // in full-resolution coordinates
+  // The threshold quad finder's (quad_finder kThreshold) main pass, in segmentation_input's pixels:
+  // every pixel's class (kTernaryDark, kTernaryLight, kTernaryUnknown: threshold.hpp) and the
+  // boundary groups the quads were fitted to (boundaries.hpp: doubled coordinates, one group per
+  // pair of dark and light components). Where a tag has no candidate quad these say why: its black
+  // square joined to a dark neighbour, its white ring broken or classed dark, its outline split
+  // among several groups. Empty for the gradient quad finder.
+  TernaryImage threshold_classes;
+  BoundaryGroups boundary_groups;
   std::vector<Quad> quads;
   std::vector<PayloadReading> readings;  // one per quad that could be sampled
   std::vector<QuadOutcome> quad_outcomes;  // one per entry of quads, in order

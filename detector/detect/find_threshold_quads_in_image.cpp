@@ -30,6 +30,8 @@ FoundQuads find_threshold_quads_in_image(const ImageF& gray, const DetectorOptio
     trace->segmentation_input = halved ? ws.threshold_quads.half : gray;
     trace->segmentation_scale = halved ? static_cast<double>(gray.width) / ws.threshold_quads.half.width : 1.0;
     trace->quads = out.quads;
+    trace->threshold_classes = ws.threshold_quads.pass.ternary;
+    trace->boundary_groups = ws.threshold_quads.pass.groups;
   }
   return out;
 }

@@ -8,7 +8,8 @@
 // of the profile) and opt.decode_sigma for the decoding image as find_quads_in_image does. Quads
 // and segments are in full-resolution coordinates; there are no segments (the stage has none).
 // `timings` receives threshold + components as `segmentation`, boundaries + fit as `quads`, the
-// refinement as `line_fit`; `trace` receives the quads (segmentation_input = the input or its half).
+// refinement as `line_fit`; `trace` receives the quads (segmentation_input = the input or its half),
+// the main pass's pixel classes and its boundary groups.
 #include "detect/detector.hpp"
 #include "detect/find_quads_in_image.hpp"
 
