@@ -66,9 +66,11 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        misread (read, not decoded within the bits corrected), below_margin,
                        withdrawn (decoded, then withdrawn by the occlusion refit), duplicate; with
                        FAMILY:ID (the tag you expect there) also wrong_id and the bits of its code read
-                       wrong. No quad holds it: no_quad (the default profile's threshold quad finder;
-                       --profile paper: segments within 50 px), no_segment (gradient clusters within
-                       50 px), no_cluster. JSON: an "explain" list in each image (below);
+                       wrong. No quad holds it: no_quad (the default profile's threshold quad finder,
+                       with its pixel classes and the boundary groups within 10 px: a group far wider
+                       than the tag, the square joined to its surroundings; none, square and ring not
+                       classed apart; --profile paper: segments within 50 px), no_segment (gradient
+                       clusters within 50 px), no_cluster. JSON: an "explain" list in each image (below);
                        CSV: one line per point on stderr, "tagbench detect: INPUT: explain X,Y: STAGE: text"
 
 Errors: an input that cannot be read (missing, unreadable, 0 bytes, corrupt) prints one line on stderr

@@ -57,6 +57,49 @@ std::string num(double v) {
   return b;
 }
 
+// What the threshold quad finder saw near `at` (kExplainNearPx): its pixel classes and the boundary
+// groups passing there, which tell a square joined to its surroundings (a group far larger than a
+// tag), an outline split among groups, or a square and ring never classed apart (no group at all).
+std::string threshold_near(const Eigen::Vector2d& at, const DetectorTrace& trace, const DetectorOptions& opt) {
+  const TernaryImage& t = trace.threshold_classes;
+  if (t.data.empty()) return "";
+  const double s = trace.segmentation_scale, off = (s - 1) / 2;  // full-resolution x = s * x' + off
+  const Eigen::Vector2d c = (at - Eigen::Vector2d(off, off)) / s;
+  const double r = kExplainNearPx / s;
+  std::size_t n = 0, dark = 0, light = 0;
+  for (int y = std::max(0, static_cast<int>(std::floor(c.y() - r))); y <= std::min(t.height - 1, static_cast<int>(std::ceil(c.y() + r))); ++y)
+    for (int x = std::max(0, static_cast<int>(std::floor(c.x() - r))); x <= std::min(t.width - 1, static_cast<int>(std::ceil(c.x() + r))); ++x) {
+      if ((Eigen::Vector2d(x, y) - c).norm() > r) continue;
+      ++n;
+      dark += t.at(x, y) == kTernaryDark ? 1 : 0;
+      light += t.at(x, y) == kTernaryLight ? 1 : 0;
+    }
+  if (n == 0) return "";
+  const auto pct = [&](std::size_t k) { return std::to_string(static_cast<int>(std::lround(100.0 * static_cast<double>(k) / static_cast<double>(n)))); };
+  std::string text = "; within " + num(kExplainNearPx) + " px: " + pct(dark) + " % of the pixels dark, " + pct(light) +
+                     " % light, " + pct(n - dark - light) + " % too flat to class";
+  const BoundaryGroups& g = trace.boundary_groups;
+  std::size_t near = 0, fittable = 0;
+  double largest = 0;
+  std::string largest_box;
+  for (std::size_t k = 0; k < g.count(); ++k) {
+    const auto pts = g.group(k);
+    const bool passes = std::any_of(pts.begin(), pts.end(), [&](const BoundaryPoint& q) {
+      return (Eigen::Vector2d(q.x2 / 2.0, q.y2 / 2.0) - c).norm() <= r;
+    });
+    if (!passes) continue;
+    ++near;
+    fittable += pts.size() >= static_cast<std::size_t>(std::max(0, opt.threshold_quads.fit.min_points)) ? 1 : 0;
+    const DoubledBox b = bounding_box(pts);
+    // The points lie on pixel edges, so their span is the outline's extent (full-resolution px).
+    const double w = s * (b.xmax - b.xmin) / 2, h = s * (b.ymax - b.ymin) / 2;
+    if (w * h > largest) largest = w * h, largest_box = num(w) + " x " + num(h) + " px";
+  }
+  if (near == 0) return text + ", no boundary group";
+  return text + ", " + std::to_string(near) + " boundary group" + (near == 1 ? "" : "s") + " (the largest " + largest_box +
+         "; " + std::to_string(fittable) + " with enough points for the quad fit)";
+}
+
 }  // namespace
 
 ExplainPoint parse_explain_point(const std::string& text) {
@@ -227,7 +270,7 @@ PointExplanation explain_point(const ExplainPoint& p, const DetectorTrace& trace
   if (opt.quad_finder == QuadFinderKind::kThreshold) {  // no clusters or segments to speak of
     out.stage = "no_quad";
     out.text = "no candidate quad holds the point: no outline of a dark square there in the adaptive threshold's "
-               "classes" + quad_note;
+               "classes" + threshold_near(p.at, trace, opt) + quad_note;
     return out;
   }
   if (segments > 0) {

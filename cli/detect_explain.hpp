@@ -10,7 +10,8 @@
 //      with FAMILY:ID, explain_loss (detect/explain_loss.hpp) with that quad as the tag's place, in the
 //      printed orientation that fits best: also the bits of the tag's code read wrong, wrong_id;
 //   3. else, near the point (kExplainRadiusPx): segments but no quad around it: no_quad; gradient
-//      clusters but no segment: no_segment; neither: no_cluster.
+//      clusters but no segment: no_segment; neither: no_cluster. The threshold quad finder has no
+//      segments or clusters: no_quad, with its pixel classes and boundary groups within kExplainNearPx.
 // Pixel centres at integer coordinates.
 #include <optional>
 #include <string>
@@ -25,6 +26,9 @@ namespace tagbench::cli::detect_cmd {
 
 // How far from the point segments and gradient pixels count as "near it" when no quad holds it.
 inline constexpr double kExplainRadiusPx = 50;
+// With the threshold quad finder (the default profile), the neighbourhood whose pixel classes and
+// boundary groups the no_quad explanation reports (DetectorTrace::threshold_classes, boundary_groups).
+inline constexpr double kExplainNearPx = 10;
 
 struct ExplainPoint {
   std::string spec;                 // as given, "X,Y[,FAMILY:ID]"

@@ -111,11 +111,36 @@ TEST(CliExplain, AFlatImageHasNoQuadOrNoClusterByProfileAndCsvSaysItOnStderr) {
   EXPECT_EQ(r.out.find("\"explain\""), std::string::npos) << r.out;
   EXPECT_EQ(r.err, "tagbench detect: " + img.string() +
                        ": explain 60,50: no_quad: no candidate quad holds the point: no outline of a dark square there "
-                       "in the adaptive threshold's classes\n");
+                       "in the adaptive threshold's classes; within 10 px: 0 % of the pixels dark, 0 % light, 100 % "
+                       "too flat to class, no boundary group\n");
   // The paper's gradient pipeline says how far it got.
   const auto paper = run(img.string() + " --profile paper --format csv --explain 60,50");
   ASSERT_EQ(paper.code, 0) << paper.err;
   EXPECT_EQ(paper.err, "tagbench detect: " + img.string() + ": explain 60,50: no_cluster: no gradient cluster within 50 px\n");
+}
+
+TEST(CliExplain, TheThresholdFindersNoQuadNamesTheClassesAndGroupsNearThePoint) {
+  // On grey: a dark 6 x 5 px block (30 px: a component, one boundary group, too small for a quad)
+  // and a dark 4 x 4 px speck (16 px: under the 25 px a component needs, so no group).
+  const fs::path img = scratch() / "blocks.png";
+  cv::Mat m(100, 120, CV_8UC1, cv::Scalar(160));
+  m(cv::Rect(30, 40, 6, 5)).setTo(40);
+  m(cv::Rect(80, 40, 4, 4)).setTo(40);
+  cv::imwrite(img.string(), m);
+  const auto r = run(img.string() + " --format csv --explain 33,42 --explain 82,42 --explain 60,80");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto line = [&](const std::string& at) {
+    const auto i = r.err.find("explain " + at + ": no_quad: ");
+    return i == std::string::npos ? std::string() : r.err.substr(i, r.err.find('\n', i) - i);
+  };
+  const std::string block = line("33,42"), speck = line("82,42"), flat = line("60,80");
+  EXPECT_NE(block.find(", 1 boundary group (the largest 6 x 5 px; 1 with enough points for the quad fit)"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(block.find(" 0 % of the pixels dark"), std::string::npos) << block;
+  EXPECT_NE(speck.find("too flat to class, no boundary group"), std::string::npos) << r.err;
+  EXPECT_EQ(speck.find(" 0 % of the pixels dark"), std::string::npos) << speck;  // classed, but no component
+  EXPECT_NE(flat.find("0 % of the pixels dark, 0 % light, 100 % too flat to class, no boundary group"), std::string::npos)
+      << r.err;
 }
 
 TEST(CliExplain, BadPointsAreUsageErrors) {
