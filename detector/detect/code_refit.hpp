@@ -78,6 +78,6 @@ std::vector<Detection> refit_to_nearest_codes(const ImageF& gray, const ImageF& 
                                               std::span<const Detection> decoded,
                                               std::span<const TagFamily> families, int max_hamming,
                                               bool hamming_by_family, const PayloadAreaOptions& area,
-                                              const CodeRefitOptions& opt);
+                                              const CodeRefitOptions& opt, PhotometricWorkspace* workspace = nullptr);
 
 }  // namespace tagbench

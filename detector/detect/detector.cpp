@@ -197,7 +197,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     area.min_contrast = opt_.payload.min_contrast;
     auto refit = refit_to_nearest_codes(gray, *found.decode_image, all_quads,
                                         std::span(*outcomes).subspan(first_outcome), decoded, families_,
-                                        opt_.max_hamming, opt_.hamming_by_family, area, opt_.code_refit);
+                                        opt_.max_hamming, opt_.hamming_by_family, area, opt_.code_refit,
+                                        &workspace.impl().photometric);
     decoded.insert(decoded.end(), std::make_move_iterator(refit.begin()), std::make_move_iterator(refit.end()));
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
@@ -205,7 +206,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   std::vector<HiddenSides> hidden;
   if (opt_.occlusion_refit) hidden = refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);
   if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
-    refine_detections_photometric_guarded(out, gray, families_, opt_.photometric, opt_.photometric_guard, hidden);
+    refine_detections_photometric_guarded(out, gray, families_, opt_.photometric, opt_.photometric_guard, hidden,
+                                          &workspace.impl().photometric);
   tm.decode = ms_since(t);
 
   // 7. Poses.

@@ -68,10 +68,12 @@ using HiddenSides = std::array<std::optional<std::array<double, 2>>, 4>;
 
 // refine_detections_photometric (photometric_refine.hpp) for the detections the guard passes; with
 // guard.enabled false exactly refine_detections_photometric. `hidden`: empty, or one entry per detection.
+// `workspace`: the refinement's buffers (nullptr: its own, allocated per call).
 void refine_detections_photometric_guarded(std::span<Detection> detections, const ImageF& img,
                                            std::span<const TagFamily> families, const PhotometricRefineOptions& opt,
                                            const PhotometricGuardOptions& guard,
-                                           std::span<const HiddenSides> hidden = {});
+                                           std::span<const HiddenSides> hidden = {},
+                                           PhotometricWorkspace* workspace = nullptr);
 
 // The guard's decision for one detection's corners (TL, TR, BR, BL), cells_across = d + 2.
 bool photometric_model_fits(const ImageF& img, const Corners& corners, int cells_across,

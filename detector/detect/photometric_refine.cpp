@@ -41,9 +41,31 @@ Eigen::Vector2d map(const Eigen::Matrix3d& M, double x, double y) {
 
 }  // namespace
 
+struct PhotometricWorkspace::Impl {
+  RowScratch rows;
+  std::vector<std::uint8_t> skip;
+  std::vector<Pixel> px, keep;
+  detail::PhotometricSamples samples;
+  std::vector<float> values;  // the samples' intensities, partly sorted for the start levels
+  detail::PhotometricScratch model;
+};
+
+PhotometricWorkspace::PhotometricWorkspace() : impl(std::make_unique<Impl>()) {}
+PhotometricWorkspace::~PhotometricWorkspace() = default;
+PhotometricWorkspace::PhotometricWorkspace(PhotometricWorkspace&&) noexcept = default;
+PhotometricWorkspace& PhotometricWorkspace::operator=(PhotometricWorkspace&&) noexcept = default;
+
 std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
                                                   const PhotometricRefineOptions& opt,
                                                   std::span<const TagBox> excluded) {
+  PhotometricWorkspace ws;
+  return refine_corners_photometric(img, cells, corners, opt, excluded, ws);
+}
+
+std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
+                                                  const PhotometricRefineOptions& opt, std::span<const TagBox> excluded,
+                                                  PhotometricWorkspace& workspace) {
+  PhotometricWorkspace::Impl& w = *workspace.impl;
   if (img.empty() || cells.n < 5) return std::nullopt;
   const auto H = tag_homography(corners);
   if (!H) return std::nullopt;
@@ -94,7 +116,8 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   constexpr int kBlock = 8;
   const bool blocks = side / (cells.n - 2) >= 2 * kBlock;
   const int bw = (ix1 - ix0) / kBlock + 1;
-  std::vector<std::uint8_t> skip(blocks && ix1 >= ix0 && iy1 >= iy0 ? static_cast<std::size_t>(bw * ((iy1 - iy0) / kBlock + 1)) : 0, 0);
+  std::vector<std::uint8_t>& skip = w.skip;
+  skip.assign(blocks && ix1 >= ix0 && iy1 >= iy0 ? static_cast<std::size_t>(bw * ((iy1 - iy0) / kBlock + 1)) : 0, 0);
   for (std::size_t b = 0; b < skip.size(); ++b) {
     const int bx = ix0 + static_cast<int>(b) % bw * kBlock, by = iy0 + static_cast<int>(b) / bw * kBlock;
     double lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY, wmin = INFINITY;
@@ -142,10 +165,11 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   // either way (3 columns and 3 rows) differs from the pixel's own. When the band is under a cell
   // (so the 3 columns/rows are the pixel's cell and its neighbours) that is one mask test on the
   // cell's neighbourhood bits.
-  RowScratch r;
+  RowScratch& r = w.rows;
   r.resize(ix1 >= ix0 ? (ix1 - ix0) / stride + 1 : 0);  // the widest row: no resize per row
   r.x.reserve(r.ok.size());
-  std::vector<Pixel> px;
+  std::vector<Pixel>& px = w.px;
+  px.clear();
   const float fS = static_cast<float>(S), fcx = static_cast<float>(c0.x()), band_s = static_cast<float>(opt.band_px / S);
   const float g00 = static_cast<float>(G(0, 0)), g01 = static_cast<float>(G(0, 1)), g10 = static_cast<float>(G(1, 0)),
               g11 = static_cast<float>(G(1, 1)), g20 = static_cast<float>(G(2, 0)), g21 = static_cast<float>(G(2, 1));
@@ -220,19 +244,21 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   if (static_cast<int>(px.size()) < opt.min_pixels) return std::nullopt;
   if (static_cast<int>(px.size()) > budget) {  // evenly spread subsample
     const double step = static_cast<double>(px.size()) / budget;
-    std::vector<Pixel> keep;
+    std::vector<Pixel>& keep = w.keep;
+    keep.clear();
     keep.reserve(static_cast<std::size_t>(budget));
     for (int k = 0; k < budget; ++k) keep.push_back(px[static_cast<std::size_t>(k * step)]);
     px.swap(keep);
   }
   // Filled by index, not push_back (which the compiler keeps a call: a fifth of this function's own cost).
-  detail::PhotometricSamples samples;
+  detail::PhotometricSamples& samples = w.samples;
   samples.xn.resize(px.size()), samples.yn.resize(px.size()), samples.value.resize(px.size());
   for (std::size_t i = 0; i < px.size(); ++i)
     samples.xn[i] = px[i].xn, samples.yn[i] = px[i].yn, samples.value[i] = px[i].value;
 
   // Start: black and white levels from the pixels' 10th and 90th percentiles, no shading.
-  std::vector<float> v(samples.value);
+  std::vector<float>& v = w.values;
+  v.assign(samples.value.begin(), samples.value.end());
   const auto lo = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 10), hi = v.begin() + static_cast<std::ptrdiff_t>(v.size() * 9 / 10);
   std::nth_element(v.begin(), lo, v.end());
   const double black = *lo;
@@ -247,7 +273,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   const double huber = opt.huber * (white - black);
   PhotometricMat JtJ;
   PhotometricVec Jtr;
-  detail::PhotometricScratch scratch;
+  detail::PhotometricScratch& scratch = w.model;
   // Gauss-Newton steps, one pass over the pixels each: a step whose pass shows a higher cost than the
   // previous one is taken back and the fit stops there. The last step is taken on trust (no pass of
   // its own: the start is within a few hundredths of a pixel, where the model is nearly linear in the
@@ -293,11 +319,14 @@ bool move_detection_to(Detection& d, const std::optional<Corners>& corners) {
 }
 
 void refine_detections_photometric(std::span<Detection> detections, const ImageF& img,
-                                   std::span<const TagFamily> families, const PhotometricRefineOptions& opt) {
+                                   std::span<const TagFamily> families, const PhotometricRefineOptions& opt,
+                                   PhotometricWorkspace* workspace) {
+  std::optional<PhotometricWorkspace> local;  // only without a caller's workspace
+  PhotometricWorkspace& ws = workspace ? *workspace : local.emplace();
   for (Detection& d : detections)
     for (const TagFamily& f : families) {
       if (f.name() != d.family) continue;
-      move_detection_to(d, refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt));
+      move_detection_to(d, refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt, {}, ws));
       break;
     }
 }

@@ -21,6 +21,7 @@
 // usable, the contrast comes out below min_contrast, the blur above max_blur_cells, or a corner would
 // move by more than max_corner_shift_px. A homography cannot fit a tag seen through lens distortion:
 // the detector skips this stage when DetectorOptions::distortion is given.
+#include <memory>
 #include <optional>
 #include <span>
 
@@ -63,12 +64,30 @@ struct TagBox {
   double u1_lo = 0, u1_hi = 0, u2_lo = 0, u2_hi = 0;
 };
 
+// Buffers of the refinement kept from one tag to the next (their storage only grows): the pixel
+// selection's rows, the pixels and samples, the model's per-pixel arrays and Jacobian (about 40
+// arrays of up to max_pixels floats). Fresh ones for every tag cost about a third of the
+// refinement's time (allocation and the first touch of new pages), so a detector keeps one in its
+// workspace (DetectorWorkspace). One workspace must not be used by two calls at once.
+struct PhotometricWorkspace {
+  PhotometricWorkspace();
+  ~PhotometricWorkspace();
+  PhotometricWorkspace(PhotometricWorkspace&&) noexcept;
+  PhotometricWorkspace& operator=(PhotometricWorkspace&&) noexcept;
+  struct Impl;  // photometric_refine.cpp
+  std::unique_ptr<Impl> impl;
+};
+
 // The black square's corners (TL, TR, BR, BL of the printed tag, as in Detection) refined on `img`
 // (the unblurred image) for the tag whose printed cells are `cells`; nullopt when rejected (above).
 // Pixels whose tag coordinates (through the starting corners) fall in an `excluded` box are not used.
 std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
                                                   const PhotometricRefineOptions& opt,
                                                   std::span<const TagBox> excluded = {});
+// The same with caller-owned buffers; identical results.
+std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
+                                                  const PhotometricRefineOptions& opt, std::span<const TagBox> excluded,
+                                                  PhotometricWorkspace& workspace);
 
 // Moves a detection onto new corners, its homography and centre with them; false (and the detection
 // unchanged) when `corners` is empty or gives no homography.
@@ -77,6 +96,7 @@ bool move_detection_to(Detection& d, const std::optional<Corners>& corners);
 // Every detection whose family is among `families`: corners, homography and centre replaced by the
 // refined ones where the refinement succeeds; the rest left alone.
 void refine_detections_photometric(std::span<Detection> detections, const ImageF& img,
-                                   std::span<const TagFamily> families, const PhotometricRefineOptions& opt);
+                                   std::span<const TagFamily> families, const PhotometricRefineOptions& opt,
+                                   PhotometricWorkspace* workspace = nullptr);
 
 }  // namespace tagbench

@@ -21,6 +21,7 @@ struct DetectorWorkspace::Impl {
   SegmentationScratch seg;
   Clusters clusters;
   ThresholdQuadWorkspace threshold_quads;  // the threshold quad finder's buffers (default profile)
+  PhotometricWorkspace photometric;        // the photometric refinement's (default profile; per tag, not per pixel)
 };
 
 }  // namespace tagbench
