@@ -335,7 +335,9 @@ struct DetectorTrace {
 // stream of images of one size is processed without reallocating them: pass the same workspace to
 // every detect() call. Buffers only grow (to the largest image seen, and for the edge lists, which
 // depend on the scene, with a quarter of headroom); release() or destroying the workspace returns
-// the memory. The Detector stays const and holds no per-call state, so thread safety is the
+// the memory. The photometric refinement's per-tag buffers live here too (not per image pixel: about
+// 300 bytes per pixel it fits, at most max(2500, 25 x the tag's side) of them, so under 1 MB for
+// tags up to 100 px; not in buffers()). The Detector stays const and holds no per-call state, so thread safety is the
 // caller's by construction: one workspace per thread (a workspace must never be used by two
 // detect() calls at once), any number of threads on one Detector. The detect() overloads without a
 // workspace use a temporary one, i.e. allocate per call.
