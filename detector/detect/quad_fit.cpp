@@ -157,26 +157,39 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
   if (nm < 4) return std::nullopt;
 
   // The four candidates with the least summed line-fit error; adjacent sides must not be near parallel.
+  // Each run's fit is made once (s.runs) and reused: the same numbers as fitting it every time.
   const double max_dot = std::cos(opt.min_angle_deg * M_PI / 180.0);
+  s.runs.assign(static_cast<std::size_t>(nm * nm), QuadFitScratch::RunFit{0, 0, 0, 0, 0, 0, false});
+  const auto run = [&](int a, int b) -> const QuadFitScratch::RunFit& {
+    QuadFitScratch::RunFit& r = s.runs[static_cast<std::size_t>(a * nm + b)];
+    if (!r.done) {
+      Line l;
+      r.mse = fit_run(s.cum, s.maxima[static_cast<std::size_t>(a)], s.maxima[static_cast<std::size_t>(b)], &l, &r.err);
+      r.cx = l.cx, r.cy = l.cy, r.nx = l.nx, r.ny = l.ny, r.done = true;
+    }
+    return r;
+  };
   double best = HUGE_VAL;
   int bi[4] = {0, 0, 0, 0};
   for (int a = 0; a < nm - 3; ++a)
     for (int b = a + 1; b < nm - 2; ++b) {
-      Line l01;
-      double e01, e12, e23, e30;
-      const int i0 = s.maxima[static_cast<std::size_t>(a)], i1 = s.maxima[static_cast<std::size_t>(b)];
-      if (fit_run(s.cum, i0, i1, &l01, &e01) > opt.max_line_fit_mse) continue;
+      const auto& r01 = run(a, b);
+      if (r01.mse > opt.max_line_fit_mse) continue;
       for (int c = b + 1; c < nm - 1; ++c) {
-        Line l12;
-        const int i2 = s.maxima[static_cast<std::size_t>(c)];
-        if (fit_run(s.cum, i1, i2, &l12, &e12) > opt.max_line_fit_mse) continue;
-        if (std::abs(l01.nx * l12.nx + l01.ny * l12.ny) > max_dot) continue;
+        const auto& r12 = run(b, c);
+        if (r12.mse > opt.max_line_fit_mse) continue;
+        if (std::abs(r01.nx * r12.nx + r01.ny * r12.ny) > max_dot) continue;
         for (int d = c + 1; d < nm; ++d) {
-          const int i3 = s.maxima[static_cast<std::size_t>(d)];
-          if (fit_run(s.cum, i2, i3, nullptr, &e23) > opt.max_line_fit_mse) continue;
-          if (fit_run(s.cum, i3, i0, nullptr, &e30) > opt.max_line_fit_mse) continue;
-          const double e = e01 + e12 + e23 + e30;
-          if (e < best) best = e, bi[0] = i0, bi[1] = i1, bi[2] = i2, bi[3] = i3;
+          const auto& r23 = run(c, d);
+          if (r23.mse > opt.max_line_fit_mse) continue;
+          const auto& r30 = run(d, a);
+          if (r30.mse > opt.max_line_fit_mse) continue;
+          const double e = r01.err + r12.err + r23.err + r30.err;
+          if (e < best) {
+            best = e;
+            bi[0] = s.maxima[static_cast<std::size_t>(a)], bi[1] = s.maxima[static_cast<std::size_t>(b)];
+            bi[2] = s.maxima[static_cast<std::size_t>(c)], bi[3] = s.maxima[static_cast<std::size_t>(d)];
+          }
         }
       }
     }

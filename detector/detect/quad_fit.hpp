@@ -65,8 +65,17 @@ struct QuadFitScratch {
   struct Moments {
     double mx, my, mxx, mxy, myy, w;
   };
+  // The line fit of the run between corner candidates a and b (entry a * candidates + b), made
+  // when the search over sets of four first needs it: that search meets each run up to dozens of
+  // times (a fit of 10 candidates tries up to 210 sets).
+  struct RunFit {
+    double mse, err;         // mean squared distance, and that times the run's point count
+    double cx, cy, nx, ny;   // the line: weighted centroid and unit normal
+    bool done;
+  };
   std::vector<Pt> pts;
   std::vector<Moments> cum;
+  std::vector<RunFit> runs;
   std::vector<double> err, smooth;
   std::vector<int> maxima;
   std::vector<BoundaryPoint> side;  // refit_one_side: the group's points on one side
