@@ -65,6 +65,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
 std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
                                                   const PhotometricRefineOptions& opt, std::span<const TagBox> excluded,
                                                   PhotometricWorkspace& workspace) {
+  if (!workspace.impl) workspace.impl = std::make_unique<PhotometricWorkspace::Impl>();  // a moved-from one
   PhotometricWorkspace::Impl& w = *workspace.impl;
   if (img.empty() || cells.n < 5) return std::nullopt;
   const auto H = tag_homography(corners);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -39,6 +40,34 @@ TEST(PhotometricRefine, BlurredTagCornersComeBackToTheTruth) {
     ASSERT_TRUE(r.has_value()) << k;
     EXPECT_LT(corner_rms(*r, truth), 0.02) << k << " start " << corner_rms(start, truth);
   }
+}
+
+// One workspace through tags of different sizes (its buffers left longer, and holding the last
+// tag's numbers, when a smaller one follows), an occluded part left out, and a moved-from workspace:
+// the very corners a fresh call gives.
+TEST(PhotometricRefine, AReusedWorkspaceGivesTheSameCornersAsFreshBuffers) {
+  const TagFamily& f = builtin_family("36h11");
+  PhotometricWorkspace ws;
+  for (int k = 0; k < 6; ++k) {
+    const double side = k % 2 == 0 ? 150 - 20 * k : 20 + 6 * k;
+    const Corners truth = synth::square_tag_corners(100.3, 99.6, side, 0.3 * k);
+    ImageF img = synth::render_tag(200, 200, tag_cells(f, 3 + k), synth::homography_for(truth), 0.5f);
+    img = gaussian_blur(img, 0.7);
+    const Corners start = perturbed(truth, 0.3, 40 + static_cast<std::uint32_t>(k));
+    const std::vector<TagBox> hidden = k == 3 ? std::vector<TagBox>{{0.5, 1.2, -1.2, 1.2}} : std::vector<TagBox>{};
+    const auto fresh = refine_corners_photometric(img, tag_cells(f, 3 + k), start, on(), hidden);
+    const auto reused = refine_corners_photometric(img, tag_cells(f, 3 + k), start, on(), hidden, ws);
+    ASSERT_TRUE(fresh.has_value()) << k;
+    ASSERT_TRUE(reused.has_value()) << k;
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ((*fresh)[i], (*reused)[i]) << k << " corner " << i;
+  }
+  PhotometricWorkspace moved = std::move(ws);
+  const Corners truth = synth::square_tag_corners(100.3, 99.6, 60, 0.4);
+  const ImageF img = gaussian_blur(synth::render_tag(200, 200, tag_cells(f, 9), synth::homography_for(truth), 0.5f), 0.7);
+  const auto a = refine_corners_photometric(img, tag_cells(f, 9), perturbed(truth, 0.3, 5), on(), {}, ws);  // NOLINT(bugprone-use-after-move)
+  const auto b = refine_corners_photometric(img, tag_cells(f, 9), perturbed(truth, 0.3, 5), on(), {}, moved);
+  ASSERT_TRUE(a.has_value() && b.has_value());
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ((*a)[i], (*b)[i]);
 }
 
 // A strongly slanted tag (about 60 degrees) with shading across it: the model's per-axis blur and
