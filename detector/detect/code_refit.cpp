@@ -17,7 +17,7 @@ namespace {
 // One family's hypothesis for one reading, placed and tested; the detection if it holds.
 std::optional<Detection> try_family(const ImageF& gray, const ImageF& decode_image, const Quad& quad, Code reading,
                                     const TagFamily& family, int corrected, const PayloadAreaOptions& area,
-                                    const CodeRefitOptions& opt, PhotometricWorkspace& ws) {
+                                    const CodeRefitOptions& opt, PhotometricWorkspace* workspace) {
   // Cheap first: a code within max_bits at all (a scan of the family's words).
   if (const auto near = family.decode(reading, opt.max_bits); !near || near->hamming <= corrected) return std::nullopt;
   // The hypothesis: the likeliest codeword under the cells' confidences (soft_decode.hpp), kept only
@@ -33,7 +33,7 @@ std::optional<Detection> try_family(const ImageF& gray, const ImageF& decode_ima
     return std::nullopt;
   const DecodeResult hypothesis{soft.best / 4, soft.best_bit_errors, soft.best % 4};
   const Corners start = printed_corners(quad.corners, hypothesis.rotation);
-  const auto refined = refine_corners_photometric(gray, tag_cells(family, hypothesis.id), start, opt.refine, {}, ws);
+  const auto refined = refine_corners_photometric(gray, tag_cells(family, hypothesis.id), start, opt.refine, {}, workspace);
   if (!refined) return std::nullopt;
   const auto H = tag_homography(*refined);
   if (!H) return std::nullopt;
@@ -65,8 +65,6 @@ std::vector<Detection> refit_to_nearest_codes(const ImageF& gray, const ImageF& 
                                               const CodeRefitOptions& opt, PhotometricWorkspace* workspace) {
   std::vector<Detection> found;
   if (!opt.enabled || outcomes.size() != quads.size()) return found;
-  std::optional<PhotometricWorkspace> local;  // only without a caller's workspace
-  PhotometricWorkspace& ws = workspace ? *workspace : local.emplace();
   for (std::size_t qi = 0; qi < quads.size(); ++qi) {
     QuadOutcome& outcome = outcomes[qi];
     if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
@@ -82,7 +80,7 @@ std::vector<Detection> refit_to_nearest_codes(const ImageF& gray, const ImageF& 
       const auto& reading = outcome.bits[static_cast<std::size_t>(f.payload_width())];
       if (!reading) continue;
       const int corrected = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
-      auto d = try_family(gray, decode_image, quads[qi], *reading, f, corrected, area, opt, ws);
+      auto d = try_family(gray, decode_image, quads[qi], *reading, f, corrected, area, opt, workspace);
       if (d && (!best || d->hamming < best->hamming)) best = std::move(d);  // the earlier family on ties
     }
     if (!best) continue;

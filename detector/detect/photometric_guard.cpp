@@ -107,8 +107,6 @@ void refine_detections_photometric_guarded(std::span<Detection> detections, cons
                                            std::span<const TagFamily> families, const PhotometricRefineOptions& opt,
                                            const PhotometricGuardOptions& guard, std::span<const HiddenSides> hidden,
                                            PhotometricWorkspace* workspace) {
-  std::optional<PhotometricWorkspace> local;  // only without a caller's workspace
-  PhotometricWorkspace& ws = workspace ? *workspace : local.emplace();
   for (std::size_t k = 0; k < detections.size(); ++k) {
     Detection& d = detections[k];
     const HiddenSides h = k < hidden.size() ? hidden[k] : HiddenSides{};
@@ -121,11 +119,11 @@ void refine_detections_photometric_guarded(std::span<Detection> detections, cons
       // Plain refinement, or (an occluded side's hidden stretch, or heavy blur) the refinement without
       // the hidden stretch, its result scaled onto the edge corners when heavily blurred.
       if (!guard.enabled || (!occluded && fit != ModelFit::kVeryBlurred)) {
-        refine_detections_photometric(std::span<Detection>(&d, 1), img, std::span<const TagFamily>(&f, 1), opt, &ws);
+        refine_detections_photometric(std::span<Detection>(&d, 1), img, std::span<const TagFamily>(&f, 1), opt, workspace);
         break;
       }
       const std::vector<TagBox> boxes = hidden_tag_boxes(d.corners, f.payload_width() + 2, h, guard);
-      const auto c = refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt, boxes, ws);
+      const auto c = refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt, boxes, workspace);
       move_detection_to(d, fit == ModelFit::kVeryBlurred && c ? align_tag_scale(*c, d.corners) : c);
       break;
     }

@@ -56,17 +56,12 @@ PhotometricWorkspace::PhotometricWorkspace(PhotometricWorkspace&&) noexcept = de
 PhotometricWorkspace& PhotometricWorkspace::operator=(PhotometricWorkspace&&) noexcept = default;
 
 std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
-                                                  const PhotometricRefineOptions& opt,
-                                                  std::span<const TagBox> excluded) {
-  PhotometricWorkspace ws;
-  return refine_corners_photometric(img, cells, corners, opt, excluded, ws);
-}
-
-std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
                                                   const PhotometricRefineOptions& opt, std::span<const TagBox> excluded,
-                                                  PhotometricWorkspace& workspace) {
-  if (!workspace.impl) workspace.impl = std::make_unique<PhotometricWorkspace::Impl>();  // a moved-from one
-  PhotometricWorkspace::Impl& w = *workspace.impl;
+                                                  PhotometricWorkspace* workspace) {
+  std::optional<PhotometricWorkspace> local;  // only without a caller's workspace
+  PhotometricWorkspace& ws = workspace ? *workspace : local.emplace();
+  if (!ws.impl) ws.impl = std::make_unique<PhotometricWorkspace::Impl>();  // a moved-from one
+  PhotometricWorkspace::Impl& w = *ws.impl;
   if (img.empty() || cells.n < 5) return std::nullopt;
   const auto H = tag_homography(corners);
   if (!H) return std::nullopt;
@@ -322,12 +317,10 @@ bool move_detection_to(Detection& d, const std::optional<Corners>& corners) {
 void refine_detections_photometric(std::span<Detection> detections, const ImageF& img,
                                    std::span<const TagFamily> families, const PhotometricRefineOptions& opt,
                                    PhotometricWorkspace* workspace) {
-  std::optional<PhotometricWorkspace> local;  // only without a caller's workspace
-  PhotometricWorkspace& ws = workspace ? *workspace : local.emplace();
   for (Detection& d : detections)
     for (const TagFamily& f : families) {
       if (f.name() != d.family) continue;
-      move_detection_to(d, refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt, {}, ws));
+      move_detection_to(d, refine_corners_photometric(img, tag_cells(f, d.id), d.corners, opt, {}, workspace));
       break;
     }
 }

@@ -81,20 +81,18 @@ struct PhotometricWorkspace {
 // The black square's corners (TL, TR, BR, BL of the printed tag, as in Detection) refined on `img`
 // (the unblurred image) for the tag whose printed cells are `cells`; nullopt when rejected (above).
 // Pixels whose tag coordinates (through the starting corners) fall in an `excluded` box are not used.
+// `workspace`: caller-owned buffers (identical results); nullptr: buffers of this call only.
 std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
                                                   const PhotometricRefineOptions& opt,
-                                                  std::span<const TagBox> excluded = {});
-// The same with caller-owned buffers; identical results.
-std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCells& cells, const Corners& corners,
-                                                  const PhotometricRefineOptions& opt, std::span<const TagBox> excluded,
-                                                  PhotometricWorkspace& workspace);
+                                                  std::span<const TagBox> excluded = {},
+                                                  PhotometricWorkspace* workspace = nullptr);
 
 // Moves a detection onto new corners, its homography and centre with them; false (and the detection
 // unchanged) when `corners` is empty or gives no homography.
 bool move_detection_to(Detection& d, const std::optional<Corners>& corners);
 
 // Every detection whose family is among `families`: corners, homography and centre replaced by the
-// refined ones where the refinement succeeds; the rest left alone.
+// refined ones where the refinement succeeds; the rest left alone. `workspace` as above.
 void refine_detections_photometric(std::span<Detection> detections, const ImageF& img,
                                    std::span<const TagFamily> families, const PhotometricRefineOptions& opt,
                                    PhotometricWorkspace* workspace = nullptr);

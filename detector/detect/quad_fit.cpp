@@ -170,7 +170,7 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
     return r;
   };
   double best = HUGE_VAL;
-  int bi[4] = {0, 0, 0, 0};
+  int bk[4] = {0, 0, 0, 0};  // the best set's candidates (indices into s.maxima)
   for (int a = 0; a < nm - 3; ++a)
     for (int b = a + 1; b < nm - 2; ++b) {
       const auto& r01 = run(a, b);
@@ -185,19 +185,17 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
           const auto& r30 = run(d, a);
           if (r30.mse > opt.max_line_fit_mse) continue;
           const double e = r01.err + r12.err + r23.err + r30.err;
-          if (e < best) {
-            best = e;
-            bi[0] = s.maxima[static_cast<std::size_t>(a)], bi[1] = s.maxima[static_cast<std::size_t>(b)];
-            bi[2] = s.maxima[static_cast<std::size_t>(c)], bi[3] = s.maxima[static_cast<std::size_t>(d)];
-          }
+          if (e < best) best = e, bk[0] = a, bk[1] = b, bk[2] = c, bk[3] = d;
         }
       }
     }
   if (!(best / n < opt.max_line_fit_mse)) return std::nullopt;
 
-  Line lines[4];
-  for (int i = 0; i < 4; ++i)
-    if (fit_run(s.cum, bi[i], bi[(i + 1) & 3], &lines[i], nullptr) > opt.max_line_fit_mse) return std::nullopt;
+  Line lines[4];  // the best set's sides, as fitted in the search (each passed max_line_fit_mse there)
+  for (int i = 0; i < 4; ++i) {
+    const auto& r = run(bk[i], bk[(i + 1) & 3]);
+    lines[i] = Line{r.cx, r.cy, r.nx, r.ny};
+  }
   Corners q;
   for (int i = 0; i < 4; ++i) {  // corner i: line i meets line i + 1 (n . p = n . c for both)
     const Line &a = lines[i], &b = lines[(i + 1) & 3];

@@ -56,7 +56,7 @@ TEST(PhotometricRefine, AReusedWorkspaceGivesTheSameCornersAsFreshBuffers) {
     const Corners start = perturbed(truth, 0.3, 40 + static_cast<std::uint32_t>(k));
     const std::vector<TagBox> hidden = k == 3 ? std::vector<TagBox>{{0.5, 1.2, -1.2, 1.2}} : std::vector<TagBox>{};
     const auto fresh = refine_corners_photometric(img, tag_cells(f, 3 + k), start, on(), hidden);
-    const auto reused = refine_corners_photometric(img, tag_cells(f, 3 + k), start, on(), hidden, ws);
+    const auto reused = refine_corners_photometric(img, tag_cells(f, 3 + k), start, on(), hidden, &ws);
     ASSERT_TRUE(fresh.has_value()) << k;
     ASSERT_TRUE(reused.has_value()) << k;
     for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ((*fresh)[i], (*reused)[i]) << k << " corner " << i;
@@ -64,8 +64,8 @@ TEST(PhotometricRefine, AReusedWorkspaceGivesTheSameCornersAsFreshBuffers) {
   PhotometricWorkspace moved = std::move(ws);
   const Corners truth = synth::square_tag_corners(100.3, 99.6, 60, 0.4);
   const ImageF img = gaussian_blur(synth::render_tag(200, 200, tag_cells(f, 9), synth::homography_for(truth), 0.5f), 0.7);
-  const auto a = refine_corners_photometric(img, tag_cells(f, 9), perturbed(truth, 0.3, 5), on(), {}, ws);  // NOLINT(bugprone-use-after-move)
-  const auto b = refine_corners_photometric(img, tag_cells(f, 9), perturbed(truth, 0.3, 5), on(), {}, moved);
+  const auto a = refine_corners_photometric(img, tag_cells(f, 9), perturbed(truth, 0.3, 5), on(), {}, &ws);  // NOLINT(bugprone-use-after-move)
+  const auto b = refine_corners_photometric(img, tag_cells(f, 9), perturbed(truth, 0.3, 5), on(), {}, &moved);
   ASSERT_TRUE(a.has_value() && b.has_value());
   for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ((*a)[i], (*b)[i]);
 }
