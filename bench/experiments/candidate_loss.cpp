@@ -112,7 +112,7 @@ Diagnosis diagnose(const ImageF& img, const Corners& truth, const ThresholdQuadO
       const Eigen::Vector3d u = Hi * Eigen::Vector3d(x, y, 1);
       const double r = std::max(std::abs(u.x() / u.z()), std::abs(u.y() / u.z()));
       const auto v = t.at(x, y);
-      const auto lab = comp.label[static_cast<std::size_t>(y) * img.width + x];
+      const auto lab = comp.label_at(x, y);
       if (r >= 0.79 && r <= 0.96) {
         ++border_n, border_dark += v == kTernaryDark, border_light += v == kTernaryLight;
         if (v == kTernaryDark) ++border_lab[lab];
@@ -145,7 +145,7 @@ Diagnosis diagnose(const ImageF& img, const Corners& truth, const ThresholdQuadO
   detail += buf;
   const bool merged = comp.size[D] > 1.15 * square_area;
   bool leaks = false;
-  for (const auto& [x, y] : centre_px) leaks |= comp.label[static_cast<std::size_t>(y) * img.width + x] == L;
+  for (const auto& [x, y] : centre_px) leaks |= comp.label_at(x, y) == L;
   if (dn < 0.9 * border_dark) return {"border_broken", detail};
   if (ln < 0.9 * ring_light) return {merged ? "ring_broken+dark_merged" : "ring_broken", detail};
   if (merged) return {leaks ? "dark_merged+light_leaks" : "dark_merged", detail};
@@ -158,7 +158,7 @@ Diagnosis diagnose(const ImageF& img, const Corners& truth, const ThresholdQuadO
   for (std::size_t k = 0; k < g.count() && gi == g.count(); ++k) {
     const auto& p = g.group(k)[0];
     const int dx = (p.x2 - p.gx) / 2, dy = (p.y2 - p.gy) / 2, lx = dx + p.gx, ly = dy + p.gy;
-    if (comp.label[static_cast<std::size_t>(dy) * img.width + dx] == D && comp.label[static_cast<std::size_t>(ly) * img.width + lx] == L) gi = k;
+    if (comp.label_at(dx, dy) == D && comp.label_at(lx, ly) == L) gi = k;
   }
   if (gi == g.count()) return {"no_group", detail};
   std::snprintf(buf, sizeof buf, " group %zu pts", g.group(gi).size());

@@ -61,6 +61,28 @@ class PairTable {
   std::uint32_t n_ = 0;
 };
 
+// The labels of one row of a Components (its runs), read left to right.
+class RowLabels {
+ public:
+  RowLabels(const Components& c, int y)
+      : runs_(c.runs.data()), labels_(c.run_label.data()), i_(c.row_start[static_cast<std::size_t>(y)]) {}
+  // Moves to the run holding column x (never left: x is at least every column sought before).
+  void seek(int x) {
+    while (runs_[i_].x1 < x) ++i_;
+  }
+  // The label of column x, at or right of the last one sought (at most a run or two further on).
+  std::uint32_t at(int x) const {
+    std::uint32_t j = i_;
+    while (runs_[j].x1 < x) ++j;
+    return labels_[j];
+  }
+
+ private:
+  const ClassRun* runs_;
+  const std::uint32_t* labels_;
+  std::uint32_t i_;
+};
+
 }  // namespace
 
 void group_boundaries(const TernaryImage& img, const Components& comp, const BoundaryOptions& opt,
@@ -78,7 +100,9 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
     const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
     const std::uint8_t* v = img.data.data() + row;
     const std::uint8_t* below = y + 1 < h ? v + w : nullptr;
-    const std::uint32_t* lab = comp.label.data() + row;
+    // Labels from the runs (components.hpp): a cursor per row, at the run holding the lowest column
+    // asked for so far; the pixels are visited left to right, so each only moves right.
+    RowLabels here(comp, y), next(comp, below ? y + 1 : y);
     int diagonal_x = -2;  // the last pixel of this row that added the point toward (x - 1, y + 1)'s partner
     // One pixel: its points toward the right, below and the two diagonals below.
     auto pixel = [&](int x) __attribute__((always_inline)) {
@@ -88,11 +112,17 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
       const bool any = (right && v0 + v[x + 1] == 255) ||
                        (below && (v0 + below[x] == 255 || (x > 0 && v0 + below[x - 1] == 255) ||
                                   (right && v0 + below[x + 1] == 255)));
-      if (v0 == kTernaryUnknown || !any || !big(lab[x])) return;
-      const std::uint32_t l0 = lab[x];
-      // Inlined (GCC and Clang keep it a call otherwise): four call sites per boundary pixel.
-      auto add = [&](int dx, int dy, std::uint8_t v1, std::uint32_t l1) __attribute__((always_inline)) {
-        if (v0 + v1 != 255 || !big(l1)) return false;
+      if (v0 == kTernaryUnknown || !any) return;
+      here.seek(x);
+      const std::uint32_t l0 = here.at(x);
+      if (!big(l0)) return;
+      if (below) next.seek(x > 0 ? x - 1 : 0);
+      // Inlined (GCC and Clang keep it a call otherwise): four call sites per boundary pixel. The
+      // neighbour's label is looked up only when its class is the opposite one.
+      auto add = [&](int dx, int dy, std::uint8_t v1, RowLabels& labels) __attribute__((always_inline)) {
+        if (v0 + v1 != 255) return false;
+        const std::uint32_t l1 = labels.at(x + dx);
+        if (!big(l1)) return false;
         const std::uint64_t key = l0 < l1 ? (std::uint64_t{l1} << 32 | l0) : (std::uint64_t{l0} << 32 | l1);
         const int sign = v1 > v0 ? 1 : -1;  // toward the light pixel
         s.raw.push_back(BoundaryPoint{2 * x + dx, 2 * y + dy, static_cast<std::int8_t>(sign * dx),
@@ -105,13 +135,12 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
         s.raw_group.push_back(last_group);
         return true;
       };
-      if (right) add(1, 0, v[x + 1], lab[x + 1]);
+      if (right) add(1, 0, v[x + 1], here);
       if (below) {
-        const std::uint32_t* lb = lab + w;
-        add(0, 1, below[x], lb[x]);
+        add(0, 1, below[x], next);
         // (x-1, y)->(x, y+1) and (x, y)->(x-1, y+1) meet at the same point: add it once.
-        if (x > 0 && diagonal_x != x - 1) add(-1, 1, below[x - 1], lb[x - 1]);
-        if (right && add(1, 1, below[x + 1], lb[x + 1])) diagonal_x = x;
+        if (x > 0 && diagonal_x != x - 1) add(-1, 1, below[x - 1], next);
+        if (right && add(1, 1, below[x + 1], next)) diagonal_x = x;
       }
     };
     int x = 0;

@@ -11,10 +11,10 @@
 namespace tagbench {
 
 void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutlineOptions& opt,
-                          OuterOutlineScratch& s, std::vector<BoundaryPoint>& out) {
+                          OuterOutlineScratch& s, std::vector<BoundaryPoint>& out, std::size_t min_points) {
   out.clear();
   one_side_points(group, true, s.side);
-  if (s.side.empty()) return;
+  if (s.side.empty() || s.side.size() < min_points) return;
   const auto [xmin, xmax, ymin, ymax] = bounding_box(s.side);
   // Doubled coordinates throughout: the ratio test does not care about the scale.
   const float cx = 0.5f * static_cast<float>(xmin + xmax), cy = 0.5f * static_cast<float>(ymin + ymax);

@@ -58,9 +58,11 @@ struct OuterOutlineScratch {
   std::vector<float> envelope, widened;
 };
 
-// The outward, outermost points of `group` into `out` (cleared first); out may be empty.
+// The outward, outermost points of `group` into `out` (cleared first); out may be empty. Empty too
+// when fewer than `min_points` points face outward (the outline, a subset of them, could not give a
+// quad: most groups of a textured ground end here, before the angles and distances are computed).
 void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutlineOptions& opt,
-                          OuterOutlineScratch& scratch, std::vector<BoundaryPoint>& out);
+                          OuterOutlineScratch& scratch, std::vector<BoundaryPoint>& out, std::size_t min_points = 0);
 
 // Whether the quad `q` (corners in order around it, px, pixel centres at integers) of `img` is darker
 // just inside each side than just outside: 4 samples a side (at 0.2, 0.4, 0.6, 0.8 of it), each a pair

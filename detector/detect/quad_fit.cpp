@@ -8,14 +8,6 @@ namespace {
 
 using Moments = QuadFitScratch::Moments;
 
-// Monotone in atan2(dy, dx) over [0, 2 pi), values in [0, 4): cheaper than atan2 and all a sort needs.
-float pseudo_angle(float dx, float dy) {
-  const float s = std::abs(dx) + std::abs(dy);
-  if (s == 0) return 0;
-  if (dy >= 0) return dx >= 0 ? dy / s : 1 - dx / s;
-  return dx < 0 ? 2 - dy / s : 3 + dx / s;
-}
-
 struct Line {
   double cx, cy, nx, ny;  // a point on the line (the weighted centroid) and the unit normal
 };
@@ -129,9 +121,17 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
     outward += (x - cx) * p.gx + (y - cy) * p.gy;
   }
   if (outward > 0 ? !opt.dark_inside : !opt.light_inside) return std::nullopt;
-  s.pts.resize(static_cast<std::size_t>(n));
+  // Sorted by angle (equal angles in scan order), then weighted in that order.
+  s.order.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     const BoundaryPoint& p = group[static_cast<std::size_t>(i)];
+    s.order[static_cast<std::size_t>(i)] = angle_key(
+        pseudo_angle(0.5f * static_cast<float>(p.x2) - cx, 0.5f * static_cast<float>(p.y2) - cy), static_cast<std::uint32_t>(i));
+  }
+  sort_angle_keys(s.order, s.sort);
+  s.pts.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const BoundaryPoint& p = group[index_of(s.order[static_cast<std::size_t>(i)])];
     const float x = 0.5f * static_cast<float>(p.x2), y = 0.5f * static_cast<float>(p.y2);
     const int ix = (p.x2 + 1) >> 1, iy = (p.y2 + 1) >> 1;
     float wgt = 1;
@@ -139,9 +139,8 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
       const float gx = img.at(ix + 1, iy) - img.at(ix - 1, iy), gy = img.at(ix, iy + 1) - img.at(ix, iy - 1);
       wgt = 255.0f * std::sqrt(gx * gx + gy * gy) + 1;  // on 0..255 intensities, as AprilTag 3 weighs them
     }
-    s.pts[static_cast<std::size_t>(i)] = {pseudo_angle(x - cx, y - cy), x, y, wgt};
+    s.pts[static_cast<std::size_t>(i)] = {x, y, wgt};
   }
-  std::sort(s.pts.begin(), s.pts.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
 
   s.cum.resize(static_cast<std::size_t>(n));
   Moments m{};
@@ -257,7 +256,7 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
     std::optional<Corners> second;
     if ((own_fit || !c) && opt.refit_outer_outline && opt.dark_inside &&
         static_cast<int>(group.size()) > std::max(opt.min_points, 4) && box_side_px(group) <= opt.outer.max_size_px) {
-      outer_outline_points(group, opt.outer, s.outer, s.side);
+      outer_outline_points(group, opt.outer, s.outer, s.side, static_cast<std::size_t>(std::max(opt.min_points, 4)));
       const double dropped = 1.0 - static_cast<double>(s.side.size()) / static_cast<double>(group.size());
       if (c ? dropped >= opt.outer.min_dropped : s.side.size() < group.size()) {
         auto o = fit_quad(s.side, img, opt, s);

@@ -23,10 +23,12 @@
 // fitted again to only the points whose dark-to-light step points away from the group's centre (for
 // dark_inside; toward it for light_inside): the square's edge alone.
 // Coordinates are in the pixels of the image the points came from (pixel centres at integers).
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <vector>
 
+#include "angle_order.hpp"
 #include "boundaries.hpp"
 #include "image.hpp"
 #include "outer_outline.hpp"
@@ -60,7 +62,7 @@ struct QuadFitOptions {
 
 struct QuadFitScratch {
   struct Pt {
-    float key, x, y, w;  // pseudo-angle, position (px), weight
+    float x, y, w;  // position (px), weight
   };
   struct Moments {
     double mx, my, mxx, mxy, myy, w;
@@ -73,7 +75,9 @@ struct QuadFitScratch {
     double cx, cy, nx, ny;   // the line: weighted centroid and unit normal
     bool done;
   };
-  std::vector<Pt> pts;
+  std::vector<std::uint64_t> order;  // the points by angle (angle_order.hpp: angle_key of the group's index)
+  AngleSortScratch sort;
+  std::vector<Pt> pts;                // the group's points in that order
   std::vector<Moments> cum;
   std::vector<RunFit> runs;
   std::vector<double> err, smooth;

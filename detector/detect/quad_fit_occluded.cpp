@@ -1,5 +1,7 @@
 #include "detect/quad_fit_occluded.hpp"
 
+#include "detect/angle_order.hpp"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -8,13 +10,6 @@
 
 namespace tagbench {
 namespace {
-
-float pseudo_angle(float dx, float dy) {  // monotone in atan2 over [0, 2 pi), values in [0, 4)
-  const float s = std::abs(dx) + std::abs(dy);
-  if (s == 0) return 0;
-  if (dy >= 0) return dx >= 0 ? dy / s : 1 - dx / s;
-  return dx < 0 ? 2 - dy / s : 3 + dx / s;
-}
 
 struct Moments {
   double x = 0, y = 0, xx = 0, xy = 0, yy = 0, n = 0;
@@ -113,8 +108,9 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
   // Only the points whose dark side faces the centre: the square's own outline. When the occluder
   // joins the square to a dark background, the group also holds the white ring's outer outline, whose
   // dark side faces away.
-  s.pts.clear();
-  for (const BoundaryPoint& p : group) {
+  s.order.clear();
+  for (std::uint32_t i = 0; i < group.size(); ++i) {
+    const BoundaryPoint& p = group[i];
     const float x = 0.5f * static_cast<float>(p.x2), y = 0.5f * static_cast<float>(p.y2);
     // The image's own gradient (dark to light) there: the pixel steps' (gx, gy) are too coarse, a
     // staircase's risers are perpendicular to the outline.
@@ -124,10 +120,15 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
       gx = img.at(ix + 1, iy) - img.at(ix - 1, iy), gy = img.at(ix, iy + 1) - img.at(ix, iy - 1);
     const float rx = x - cx, ry = y - cy;
     if (rx * gx + ry * gy > opt.min_radial_cos * std::sqrt((rx * rx + ry * ry) * (gx * gx + gy * gy)))
-      s.pts.push_back({pseudo_angle(rx, ry), x, y});
+      s.order.push_back(angle_key(pseudo_angle(rx, ry), i));
   }
-  if (s.pts.size() < 16) return std::nullopt;
-  std::sort(s.pts.begin(), s.pts.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+  if (s.order.size() < 16) return std::nullopt;
+  sort_angle_keys(s.order, s.sort);  // equal angles in scan order
+  s.pts.resize(s.order.size());
+  for (std::size_t i = 0; i < s.order.size(); ++i) {
+    const BoundaryPoint& p = group[index_of(s.order[i])];
+    s.pts[i] = {0.5f * static_cast<float>(p.x2), 0.5f * static_cast<float>(p.y2)};
+  }
 
   const int n = static_cast<int>(s.pts.size());
 

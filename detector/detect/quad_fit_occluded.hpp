@@ -24,6 +24,7 @@
 #include <span>
 #include <vector>
 
+#include "angle_order.hpp"
 #include "boundaries.hpp"
 #include "homography.hpp"
 #include "image.hpp"
@@ -62,9 +63,11 @@ struct OccludedQuadFitOptions {
 
 struct OccludedQuadFitScratch {
   struct Pt {
-    float key, x, y;
+    float x, y;
   };
-  std::vector<Pt> pts;
+  std::vector<std::uint64_t> order;  // the kept points by angle (angle_order.hpp)
+  AngleSortScratch sort;
+  std::vector<Pt> pts;               // in that order
   std::vector<int> vertices, stack;
   std::vector<int> line_of;  // per point: its candidate line, or -1
 };

@@ -79,6 +79,7 @@ TEST(Boundaries, FastScanMatchesThePixelByPixelRule) {
     for (auto& v : t.data)
       if (speck(rng) == 0) v = values[cls(rng)];
     const auto c = connected_components(t);
+    const auto label = label_image(c);
     BoundaryOptions opt;
     opt.min_component_pixels = 4;
     const auto g = group_boundaries(t, c, opt);
@@ -89,13 +90,13 @@ TEST(Boundaries, FastScanMatchesThePixelByPixelRule) {
       bool last_diag = false;
       for (int x = 0; x < W; ++x) {
         const std::uint8_t v0 = t.data[static_cast<std::size_t>(y * W + x)];
-        const std::uint32_t l0 = c.label[static_cast<std::size_t>(y * W + x)];
+        const std::uint32_t l0 = label[static_cast<std::size_t>(y * W + x)];
         bool diag = false;
         const auto add = [&](int dx, int dy) {
           const int x1 = x + dx, y1 = y + dy;
           if (x1 < 0 || x1 >= W || y1 >= H || v0 == kTernaryUnknown || !big(l0)) return false;
           const std::uint8_t v1 = t.data[static_cast<std::size_t>(y1 * W + x1)];
-          const std::uint32_t l1 = c.label[static_cast<std::size_t>(y1 * W + x1)];
+          const std::uint32_t l1 = label[static_cast<std::size_t>(y1 * W + x1)];
           if (v0 + v1 != 255 || !big(l1)) return false;
           const int sign = v1 > v0 ? 1 : -1;
           ref.push_back({l0 < l1 ? (std::uint64_t{l1} << 32 | l0) : (std::uint64_t{l0} << 32 | l1),

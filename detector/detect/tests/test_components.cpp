@@ -19,7 +19,7 @@ TernaryImage from_rows(const std::vector<std::string>& rows) {  // '#' dark, '.'
     for (char c : r) t.data.push_back(c == '#' ? kTernaryDark : c == '.' ? kTernaryLight : kTernaryUnknown);
   return t;
 }
-std::uint32_t lab(const Components& c, int x, int y) { return c.label[static_cast<std::size_t>(y * c.width + x)]; }
+std::uint32_t lab(const Components& c, int x, int y) { return c.label_at(x, y); }
 }  // namespace
 
 TEST(Components, DarkIsFourConnectedLightIsEightConnected) {
@@ -105,6 +105,8 @@ TEST(Components, EqualsAFloodFillOnRandomImages) {
           t.data.push_back(v);
       }
       const Components c = connected_components(t);
+      const std::vector<std::uint32_t> label = label_image(c);
+      for (int i = 0; i < w * h; ++i) ASSERT_EQ(c.label_at(i % w, i / w), label[static_cast<std::size_t>(i)]);
       std::vector<int> bfs(t.data.size(), -1), bfs_size;
       for (int start = 0; start < w * h; ++start) {
         if (bfs[static_cast<std::size_t>(start)] >= 0 || t.data[static_cast<std::size_t>(start)] == kTernaryUnknown) continue;
@@ -137,12 +139,12 @@ TEST(Components, EqualsAFloodFillOnRandomImages) {
       std::vector<std::uint32_t> label_of(bfs_size.size(), kNoComponent);
       for (std::size_t i = 0; i < t.data.size(); ++i) {
         if (bfs[i] < 0) {
-          ASSERT_EQ(c.label[i], kNoComponent);
+          ASSERT_EQ(label[i], kNoComponent);
           continue;
         }
         auto& l = label_of[static_cast<std::size_t>(bfs[i])];
-        if (l == kNoComponent) l = c.label[i];
-        ASSERT_EQ(c.label[i], l) << "w " << w << " pixel " << i;
+        if (l == kNoComponent) l = label[i];
+        ASSERT_EQ(label[i], l) << "w " << w << " pixel " << i;
         ASSERT_EQ(c.size[l], static_cast<std::uint32_t>(bfs_size[static_cast<std::size_t>(bfs[i])]));
       }
       std::sort(label_of.begin(), label_of.end());

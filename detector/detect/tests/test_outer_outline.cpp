@@ -51,6 +51,22 @@ TEST(OuterOutline, KeepsNothingWithoutOutwardPoints) {
   EXPECT_TRUE(out.empty());
 }
 
+// Fewer outward points than the caller's minimum: nothing kept (no quad could be fitted to them);
+// at the minimum, the outline as without one.
+TEST(OuterOutline, KeepsNothingWhenTooFewPointsFaceOutward) {
+  std::vector<BoundaryPoint> group;
+  outline(group, 80, 20, 1);  // 160 outward points
+  outline(group, 80, 26, -1);
+  OuterOutlineScratch s;
+  std::vector<BoundaryPoint> all, out = {BoundaryPoint{}};
+  outer_outline_points(group, {}, s, all);
+  outer_outline_points(group, {}, s, out, 161);
+  EXPECT_TRUE(out.empty());
+  outer_outline_points(group, {}, s, out, 160);
+  ASSERT_EQ(out.size(), all.size());
+  for (std::size_t i = 0; i < out.size(); ++i) EXPECT_EQ(out[i].x2, all[i].x2);
+}
+
 // In fit_quads: the mixed group's own fit is the mean of its two nested outlines (each side's line
 // passes between them within max_line_fit_mse: the bent quad of a tag whose white ring leaks into its
 // payload); refit_outer_outline adds the square itself as a second candidate.

@@ -108,10 +108,10 @@ TEST(QuadFit, TagLikeFrameGivesTheOuterSquareAndWorkspaceIsReused) {
   find_threshold_quads(img, {}, ws, quads);
   ASSERT_EQ(quads.size(), 1u);
   EXPECT_LT(corner_error(quads[0].corners, outer), 0.25);
-  const auto before = std::vector<const void*>{ws.pass.ternary.data.data(), ws.pass.components.label.data(),
+  const auto before = std::vector<const void*>{ws.pass.ternary.data.data(), ws.pass.components.runs.data(),
                                                ws.pass.groups.points.data(), ws.pass.boundary_scratch.keys.data()};
   find_threshold_quads(img, {}, ws, quads);
-  const auto after = std::vector<const void*>{ws.pass.ternary.data.data(), ws.pass.components.label.data(),
+  const auto after = std::vector<const void*>{ws.pass.ternary.data.data(), ws.pass.components.runs.data(),
                                               ws.pass.groups.points.data(), ws.pass.boundary_scratch.keys.data()};
   EXPECT_EQ(before, after);
 }
