@@ -22,9 +22,11 @@ std::size_t slot_of(std::uint64_t key, std::size_t mask) {
 
 class PairTable {
  public:
-  explicit PairTable(BoundaryScratch& s) : s_(s) {
-    if (s_.keys.size() < 4096) s_.keys.resize(4096);
-    std::fill(s_.keys.begin(), s_.keys.end(), kEmpty);
+  // Sized for the image (a slot per 64 pixels, at least 64; it grows when half full): emptying a
+  // frame-sized table for each small crop of the second look cost more than the crop's own pass.
+  // Group indices follow the order pairs are first met, whatever the size.
+  PairTable(BoundaryScratch& s, std::size_t pixels) : s_(s) {
+    s_.keys.assign(std::max<std::size_t>(64, std::bit_ceil(pixels / 64)), kEmpty);
     s_.values.resize(s_.keys.size());
   }
   // The group index of the pair `key`, a new one (== groups so far) when first met.
@@ -90,7 +92,7 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
   const int w = img.width, h = img.height;
   s.raw.clear();
   s.raw_group.clear();
-  PairTable table(s);
+  PairTable table(s, static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   const std::uint32_t min_size = opt.min_component_pixels;
   std::uint64_t last_key = kEmpty;
   std::uint32_t last_group = 0;
