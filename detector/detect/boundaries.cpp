@@ -63,11 +63,11 @@ class PairTable {
   std::uint32_t n_ = 0;
 };
 
-// The labels of one row of a Components (its runs), read left to right.
+// The labels of one row of a Components (its runs, with one label per run), read left to right.
 class RowLabels {
  public:
-  RowLabels(const Components& c, int y)
-      : runs_(c.runs.data()), labels_(c.run_label.data()), i_(c.row_start[static_cast<std::size_t>(y)]) {}
+  RowLabels(const Components& c, const std::vector<std::uint32_t>& labels, int y)
+      : runs_(c.runs.data()), labels_(labels.data()), i_(c.row_start[static_cast<std::size_t>(y)]) {}
   // Moves to the run holding column x (never left: x is at least every column sought before).
   void seek(int x) {
     while (runs_[i_].x1 < x) ++i_;
@@ -93,10 +93,17 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
   s.raw.clear();
   s.raw_group.clear();
   PairTable table(s, static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  // Each run's label when its component is big enough, else none: one look at the sizes per run
+  // instead of two or more per boundary pixel (the sizes are read out of order).
   const std::uint32_t min_size = opt.min_component_pixels;
+  s.big_label.resize(comp.run_label.size());
+  for (std::size_t i = 0; i < comp.run_label.size(); ++i) {
+    const std::uint32_t id = comp.run_label[i];
+    s.big_label[i] = id != kNoComponent && comp.size[id] >= min_size ? id : kNoComponent;
+  }
   std::uint64_t last_key = kEmpty;
   std::uint32_t last_group = 0;
-  auto big = [&](std::uint32_t id) { return id != kNoComponent && comp.size[id] >= min_size; };
+  auto big = [](std::uint32_t id) { return id != kNoComponent; };
 
   for (int y = 0; y < h; ++y) {
     const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
@@ -104,7 +111,7 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
     const std::uint8_t* below = y + 1 < h ? v + w : nullptr;
     // Labels from the runs (components.hpp): a cursor per row, at the run holding the lowest column
     // asked for so far; the pixels are visited left to right, so each only moves right.
-    RowLabels here(comp, y), next(comp, below ? y + 1 : y);
+    RowLabels here(comp, s.big_label, y), next(comp, s.big_label, below ? y + 1 : y);
     int diagonal_x = -2;  // the last pixel of this row that added the point toward (x - 1, y + 1)'s partner
     // One pixel: its points toward the right, below and the two diagonals below.
     auto pixel = [&](int x) __attribute__((always_inline)) {

@@ -58,6 +58,7 @@ struct BoundaryScratch {
   std::vector<BoundaryPoint> raw;     // points in scan order
   std::vector<std::uint32_t> raw_group;
   std::vector<std::uint32_t> fill;
+  std::vector<std::uint32_t> big_label;  // per run: its component's id if at least min_component_pixels, else none
 };
 
 // Collects and groups the boundary points of `img` (labelled by `comp`) into `out` (storage reused).
