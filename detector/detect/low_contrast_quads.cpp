@@ -14,40 +14,39 @@ void faint_regions(const ThresholdScratch& windows, int w, int h, int t, float l
   const int tw = (w + t - 1) / t, th = (h + t - 1) / t;
   const std::size_t nt = static_cast<std::size_t>(tw) * static_cast<std::size_t>(th);
   if (windows.tile_min.size() < nt || windows.tile_max.size() < nt) return;
-  s.band.resize(nt);
+  // The band's tiles as the light class of a tile image (light is 8-connected), the rest unknown:
+  // the threshold stage's run-based components label them.
+  s.tiles.width = tw, s.tiles.height = th;
+  s.tiles.data.resize(nt);
   for (std::size_t k = 0; k < nt; ++k) {
     const float d = windows.tile_max[k] - windows.tile_min[k];
-    s.band[k] = (d >= low) & (d < high) ? 1 : 0;
+    s.tiles.data[k] = (d >= low) & (d < high) ? kTernaryLight : kTernaryUnknown;
   }
-  // 8-connected regions of band tiles (flood fill; a visited tile is set to 2).
+  connected_components(s.tiles, s.tile_scratch, s.tile_components, false);
+  // Each region's box over its runs. A component's id is its first run (the smallest index: the
+  // union-find keeps the smaller root), so ids in increasing order are the regions in raster order
+  // of their first tile.
+  const Components& c = s.tile_components;
+  s.boxes.resize(c.runs.size());
   for (int ty = 0; ty < th; ++ty)
-    for (int tx = 0; tx < tw; ++tx) {
-      std::size_t k0 = static_cast<std::size_t>(ty) * static_cast<std::size_t>(tw) + static_cast<std::size_t>(tx);
-      if (s.band[k0] != 1) continue;
-      int bx0 = tx, bx1 = tx, by0 = ty, by1 = ty, count = 0;
-      s.stack.assign(1, static_cast<int>(k0));
-      s.band[k0] = 2;
-      while (!s.stack.empty()) {
-        const int k = s.stack.back();
-        s.stack.pop_back();
-        const int x = k % tw, y = k / tw;
-        ++count;
-        bx0 = std::min(bx0, x), bx1 = std::max(bx1, x), by0 = std::min(by0, y), by1 = std::max(by1, y);
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int nx = x + dx, ny = y + dy;
-            if (nx < 0 || ny < 0 || nx >= tw || ny >= th) continue;
-            const std::size_t n = static_cast<std::size_t>(ny) * static_cast<std::size_t>(tw) + static_cast<std::size_t>(nx);
-            if (s.band[n] == 1) s.band[n] = 2, s.stack.push_back(static_cast<int>(n));
-          }
-      }
-      const int bw = bx1 - bx0 + 1, bh = by1 - by0 + 1;
-      const double side = static_cast<double>(std::max(bw, bh) * t);
-      if (side < opt.min_size_px || side > opt.max_size_px + 6.0 * t) continue;
-      if (count < opt.min_fill * bw * bh || count * t * t < opt.min_area_px) continue;
-      if (std::min(bw, bh) < opt.min_aspect * std::max(bw, bh)) continue;
-      out.push_back({bx0 * t, by0 * t, std::min(w - 1, (bx1 + 1) * t - 1), std::min(h - 1, (by1 + 1) * t - 1), count});
+    for (std::uint32_t i = c.row_start[static_cast<std::size_t>(ty)]; i < c.row_start[static_cast<std::size_t>(ty) + 1]; ++i) {
+      const std::uint32_t id = c.run_label[i];
+      if (id == kNoComponent) continue;
+      FaintRegion& b = s.boxes[id];
+      if (id == i) b = {c.runs[i].x0, ty, c.runs[i].x1, ty, 0};
+      b.x0 = std::min(b.x0, c.runs[i].x0), b.x1 = std::max(b.x1, c.runs[i].x1), b.y1 = ty;
     }
+  for (std::uint32_t i = 0; i < c.runs.size(); ++i) {
+    if (c.run_label[i] != i) continue;
+    const FaintRegion& r = s.boxes[i];
+    const int bx0 = r.x0, bx1 = r.x1, by0 = r.y0, by1 = r.y1, count = static_cast<int>(c.size[i]);
+    const int bw = bx1 - bx0 + 1, bh = by1 - by0 + 1;
+    const double side = static_cast<double>(std::max(bw, bh) * t);
+    if (side < opt.min_size_px || side > opt.max_size_px + 6.0 * t) continue;
+    if (count < opt.min_fill * bw * bh || count * t * t < opt.min_area_px) continue;
+    if (std::min(bw, bh) < opt.min_aspect * std::max(bw, bh)) continue;
+    out.push_back({bx0 * t, by0 * t, std::min(w - 1, (bx1 + 1) * t - 1), std::min(h - 1, (by1 + 1) * t - 1), count});
+  }
 }
 
 void low_contrast_quads(const ImageF& img, const ThresholdScratch& windows, const ThresholdOptions& threshold, bool dark_eight,

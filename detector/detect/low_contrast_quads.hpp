@@ -56,8 +56,10 @@ struct FaintRegion {
 };
 
 struct LowContrastScratch {
-  std::vector<std::uint8_t> band;
-  std::vector<int> stack;
+  TernaryImage tiles;                 // faint_regions: the band's tiles (light) and the rest (unknown)
+  ComponentScratch tile_scratch;
+  Components tile_components;
+  std::vector<FaintRegion> boxes;     // per component id: its box in tiles
   std::vector<FaintRegion> regions;
   ImageF crop;
   BoundaryPassScratch pass;  // threshold, components, boundaries of one crop

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "detect/homography.hpp"
@@ -76,6 +78,64 @@ TEST(LowContrastQuads, RegionFiltersDropLargeSmallAndSparseRegions) {
   LowContrastPassOptions any;
   any.min_aspect = 0, any.min_area_px = 0;
   EXPECT_EQ(regions_of(line, any).size(), 1u);
+}
+
+// The regions are the 8-connected sets of band tiles a flood fill finds, in raster order of their
+// first tile, with their boxes and tile counts: random tile spans, every filter loosened or not.
+TEST(LowContrastQuads, FaintRegionsMatchAFloodFill) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int t = 1 + static_cast<int>(rng() % 4), w = 1 + static_cast<int>(rng() % 90), h = 1 + static_cast<int>(rng() % 70);
+    const int tw = (w + t - 1) / t, th = (h + t - 1) / t;
+    ThresholdScratch ts;
+    ts.tile_min.assign(static_cast<std::size_t>(tw * th), 0.0f);
+    ts.tile_max.resize(ts.tile_min.size());
+    const int density = 1 + static_cast<int>(rng() % 9);
+    for (auto& v : ts.tile_max) v = static_cast<int>(rng() % 10) < density ? 0.05f : (rng() % 2 ? 0.01f : 0.5f);
+    LowContrastPassOptions opt;
+    if (trial % 2) opt.min_size_px = 0, opt.max_size_px = 1e9, opt.min_fill = 0, opt.min_area_px = 0, opt.min_aspect = 0;
+    LowContrastScratch s;
+    std::vector<FaintRegion> got;
+    faint_regions(ts, w, h, t, 0.02f, 0.1f, opt, s, got);
+    // The reference: a flood fill from each band tile in raster order, the same filters.
+    std::vector<int> seen(static_cast<std::size_t>(tw * th), 0);
+    const auto band = [&](int k) { return ts.tile_max[static_cast<std::size_t>(k)] == 0.05f; };
+    std::vector<FaintRegion> want;
+    for (int k0 = 0; k0 < tw * th; ++k0) {
+      if (!band(k0) || seen[static_cast<std::size_t>(k0)]) continue;
+      int bx0 = k0 % tw, bx1 = bx0, by0 = k0 / tw, by1 = by0, count = 0;
+      std::vector<int> stack = {k0};
+      seen[static_cast<std::size_t>(k0)] = 1;
+      while (!stack.empty()) {
+        const int k = stack.back();
+        stack.pop_back();
+        const int x = k % tw, y = k / tw;
+        ++count;
+        bx0 = std::min(bx0, x), bx1 = std::max(bx1, x), by0 = std::min(by0, y), by1 = std::max(by1, y);
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy, n = ny * tw + nx;
+            if (nx < 0 || ny < 0 || nx >= tw || ny >= th || !band(n) || seen[static_cast<std::size_t>(n)]) continue;
+            seen[static_cast<std::size_t>(n)] = 1;
+            stack.push_back(n);
+          }
+      }
+      const int bw = bx1 - bx0 + 1, bh = by1 - by0 + 1;
+      const double side = static_cast<double>(std::max(bw, bh) * t);
+      if (side < opt.min_size_px || side > opt.max_size_px + 6.0 * t) continue;
+      if (count < opt.min_fill * bw * bh || count * t * t < opt.min_area_px) continue;
+      if (std::min(bw, bh) < opt.min_aspect * std::max(bw, bh)) continue;
+      want.push_back({bx0 * t, by0 * t, std::min(w - 1, (bx1 + 1) * t - 1), std::min(h - 1, (by1 + 1) * t - 1), count});
+    }
+    ASSERT_EQ(got.size(), want.size()) << "trial " << trial;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      EXPECT_EQ(got[i].x0, want[i].x0);
+      EXPECT_EQ(got[i].y0, want[i].y0);
+      EXPECT_EQ(got[i].x1, want[i].x1);
+      EXPECT_EQ(got[i].y1, want[i].y1);
+      EXPECT_EQ(got[i].tiles, want[i].tiles) << "trial " << trial << " region " << i;
+    }
+  }
 }
 
 TEST(LowContrastQuads, FindsTheFaintSquareTheMainPassMisses) {
