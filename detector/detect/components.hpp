@@ -30,11 +30,13 @@ struct Components {
   int width = 0, height = 0;
   std::vector<ClassRun> runs;            // row by row, left to right, covering every row
   std::vector<std::uint32_t> row_start;  // runs of row y: [row_start[y], row_start[y + 1]); height + 1 entries
-  std::vector<std::uint32_t> run_label;  // per run: its component's id, kNoComponent for unknown runs
+  std::vector<std::uint32_t> run_label;  // per run: its component's id, kNoComponent for unknown runs; a
+                                         // component's id is the index of its first run in raster order
   std::vector<std::uint32_t> size;       // per id: the component's pixel count (ids index into it; unused ids hold 0)
   std::uint32_t count = 0;               // number of components (dark and light)
 
-  // The component id of pixel (x, y), kNoComponent when it is unknown (a binary search in its row).
+  // The component id of pixel (x, y) inside the image, kNoComponent when it is unknown (a binary
+  // search in its row).
   std::uint32_t label_at(int x, int y) const;
 };
 

@@ -107,6 +107,13 @@ TEST(Components, EqualsAFloodFillOnRandomImages) {
       const Components c = connected_components(t);
       const std::vector<std::uint32_t> label = label_image(c);
       for (int i = 0; i < w * h; ++i) ASSERT_EQ(c.label_at(i % w, i / w), label[static_cast<std::size_t>(i)]);
+      // A component's id is its first run in raster order (the low-contrast look relies on it).
+      for (std::uint32_t r = 0; r < c.runs.size(); ++r) {
+        const std::uint32_t id = c.run_label[r];
+        if (id == kNoComponent) continue;
+        ASSERT_LE(id, r);
+        ASSERT_EQ(c.run_label[id], id);
+      }
       std::vector<int> bfs(t.data.size(), -1), bfs_size;
       for (int start = 0; start < w * h; ++start) {
         if (bfs[static_cast<std::size_t>(start)] >= 0 || t.data[static_cast<std::size_t>(start)] == kTernaryUnknown) continue;
