@@ -123,6 +123,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "ring_ratio") o.threshold_quads.fit.outer.min_side_ratio = x;
     else if (k == "look") o.second_look.enabled = x != 0;
     else if (k == "look_max") o.second_look.max_size_px = x;
+    else if (k == "look_min") o.second_look.min_size_px = x;
     else if (k == "look_half") o.second_look.at_half_resolution = x != 0;
     else if (k == "look_inside") o.second_look.inside_only = x != 0;
     else if (k == "look_gap") o.second_look.min_class_gap = x;

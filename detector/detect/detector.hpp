@@ -88,6 +88,7 @@ inline SecondLookOptions default_profile_second_look() {
   SecondLookOptions o;
   o.enabled = true;
   o.max_size_px = 64;
+  o.min_size_px = 16;
   return o;
 }
 

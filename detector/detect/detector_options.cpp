@@ -238,6 +238,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   if (!(code_refit.max_side_px >= code_refit.min_side_px)) fail("code_refit.max_side_px", code_refit.max_side_px, "must be >= code_refit.min_side_px");
   validate_occlusion_refit(occlusion);
   finite_above("second_look.max_size_px", second_look.max_size_px, 0);
+  finite_at_least("second_look.min_size_px", second_look.min_size_px, 0);
   finite_at_least("second_look.margin_px", second_look.margin_px, 0);
   within("second_look.min_class_gap", second_look.min_class_gap, 0, 1);
   finite_at_least("second_look.min_corner_change_px", second_look.min_corner_change_px, 0);

@@ -53,7 +53,8 @@ std::vector<Quad> second_look_quads(const ImageF& img, std::span<const Quad> qua
     double x_lo = c[0].x(), x_hi = x_lo, y_lo = c[0].y(), y_hi = y_lo;
     for (const auto& p : c)
       x_lo = std::min(x_lo, p.x()), x_hi = std::max(x_hi, p.x()), y_lo = std::min(y_lo, p.y()), y_hi = std::max(y_hi, p.y());
-    if (!(std::max(x_hi - x_lo, y_hi - y_lo) <= opt.max_size_px)) continue;
+    const double side = std::max(x_hi - x_lo, y_hi - y_lo);
+    if (!(side <= opt.max_size_px) || side < opt.min_size_px) continue;
     const int x0 = std::max(0, static_cast<int>(std::floor(x_lo - opt.margin_px)));
     const int y0 = std::max(0, static_cast<int>(std::floor(y_lo - opt.margin_px)));
     const int x1 = std::min(img.width - 1, static_cast<int>(std::ceil(x_hi + opt.margin_px)));

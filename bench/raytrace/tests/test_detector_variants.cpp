@@ -37,9 +37,10 @@ TEST(DetectorVariants, EachPairSetsItsOptionInOrder) {
   EXPECT_EQ(o.payload_reader, PayloadReaderKind::kPoint);
   EXPECT_EQ(o.max_hamming, 1);
   EXPECT_FALSE(o.hamming_by_family);
-  apply_detector_variant(o, "look=1/look_max=30/posechoice_lens=0", "x");
+  apply_detector_variant(o, "look=1/look_max=30/look_min=0/posechoice_lens=0", "x");
   EXPECT_TRUE(o.second_look.enabled);
   EXPECT_DOUBLE_EQ(o.second_look.max_size_px, 30);
+  EXPECT_DOUBLE_EQ(o.second_look.min_size_px, 0);
   EXPECT_FALSE(o.pose_choice.with_lens);
 }
 

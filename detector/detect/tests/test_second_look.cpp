@@ -51,6 +51,11 @@ TEST(SecondLook, SkipsQuadsNotAskedForTooLargeOrFlat) {
   EXPECT_TRUE(second_look_quads(img, std::span(&card, 1), {false}, tq, opt).empty());
   opt.max_size_px = 30;  // the card is 34 px
   EXPECT_TRUE(second_look_quads(img, std::span(&card, 1), {true}, tq, opt).empty());
+  opt.max_size_px = 64;
+  opt.min_size_px = 35;  // too small now
+  EXPECT_TRUE(second_look_quads(img, std::span(&card, 1), {true}, tq, opt).empty());
+  opt.min_size_px = 34;
+  EXPECT_FALSE(second_look_quads(img, std::span(&card, 1), {true}, tq, opt).empty());
   const ImageF flat(80, 80, 0.4f);
   EXPECT_TRUE(second_look_quads(flat, std::span(&card, 1), {true}, tq, SecondLookOptions{}).empty());
 }
