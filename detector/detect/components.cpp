@@ -109,7 +109,7 @@ void connected_components(const TernaryImage& img, ComponentScratch& s, Componen
   out.run_label.resize(nr);
   for (std::size_t i = 0; i < nr; ++i) {
     const std::uint32_t root = find_root(s.parent, static_cast<std::uint32_t>(i));
-    s.parent[i] = root;
+    s.parent[i] = root;  // runs point to smaller indices: a later run under this one finds its root in a step
     const ClassRun& r = runs[i];
     if (r.value == kTernaryUnknown) {
       out.run_label[i] = kNoComponent;
