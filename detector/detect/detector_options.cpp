@@ -102,6 +102,7 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   finite_at_least("threshold_quads.fit.outer.min_corner_change_px", q.fit.outer.min_corner_change_px, 0);
   if (!(q.fit.outer.max_size_px > 0))  // infinity allowed: every group
     fail("threshold_quads.fit.outer.max_size_px", q.fit.outer.max_size_px, "must be > 0");
+  finite_at_least("threshold_quads.fit.outer.min_points_per_box_px", q.fit.outer.min_points_per_box_px, 0);
   within("threshold_quads.fit.outer.ring_min_share", q.fit.outer.ring_min_share, 0, 1);
   finite_at_least("threshold_quads.fit.outer.ring_min_step", q.fit.outer.ring_min_step, 0);
   within("threshold_quads.fit.outer.min_side_ratio", q.fit.outer.min_side_ratio, 0, 1);

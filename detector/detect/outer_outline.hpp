@@ -37,6 +37,13 @@ struct OuterOutlineOptions {
   // is 2-3 px wide; on natural images most groups are large texture outlines, where it costs the
   // most (their many points) and never finds a tag the group's own fit missed.
   double max_size_px = std::numeric_limits<double>::infinity();
+  // Which groups are worth the outline (quad_fit.hpp's use): tried only when the group holds at least
+  // this many boundary points per px of its box's longer side, >= 0 (0: every group). The outline finds
+  // tags whose group holds inner edges beside the square's (the payload's, the ring's outer edge), so
+  // many points for its size; most groups tried are texture outlines and lines, each costing an
+  // outline, a fit, the ring check and often an edge refinement, a decoding and a second look. A count
+  // over a length: the same at every scale (the second look's crops are resampled).
+  double min_points_per_box_px = 0;
   // The ring check (quad_fit.hpp's use; outline_has_ring below): an outline's quad is kept only when
   // it looks like a dark square inside a light ring. Most failed groups of a natural image give an
   // outline quad that is not a tag, and each quad costs an edge refinement and a decode (most of the

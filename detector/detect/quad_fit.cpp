@@ -255,7 +255,8 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
     // occluded fit: an occluder's outline is outermost there, and the fit has already left it out.
     std::optional<Corners> second;
     if ((own_fit || !c) && opt.refit_outer_outline && opt.dark_inside &&
-        static_cast<int>(group.size()) > std::max(opt.min_points, 4) && box_side_px(group) <= opt.outer.max_size_px) {
+        static_cast<int>(group.size()) > std::max(opt.min_points, 4) && box_side_px(group) <= opt.outer.max_size_px &&
+        static_cast<double>(group.size()) >= opt.outer.min_points_per_box_px * box_side_px(group)) {
       outer_outline_points(group, opt.outer, s.outer, s.side, static_cast<std::size_t>(std::max(opt.min_points, 4)));
       const double dropped = 1.0 - static_cast<double>(s.side.size()) / static_cast<double>(group.size());
       if (c ? dropped >= opt.outer.min_dropped : s.side.size() < group.size()) {

@@ -179,6 +179,25 @@ TEST(OuterOutline, MaxSizeSkipsLargerGroups) {
   EXPECT_EQ(quads.size(), 1u);
 }
 
+// The points-per-length gate: the group (box 20 px) is tried only when it holds at least
+// min_points_per_box_px points per px of its box.
+TEST(OuterOutline, PointsPerBoxGateSkipsSparseGroups) {
+  const BoundaryGroups groups = square_with_inner_cell();
+  const double ratio = static_cast<double>(groups.points.size()) / 20.0;
+  const ImageF img(80, 80, 0.5f);
+  QuadFitScratch s;
+  QuadFitOptions opt;
+  opt.refit_outer_outline = true;
+  std::vector<Quad> quads;
+  opt.outer.min_points_per_box_px = 0.999 * ratio;
+  fit_quads(groups, img, opt, s, quads);
+  EXPECT_EQ(quads.size(), 1u);
+  quads.clear();
+  opt.outer.min_points_per_box_px = 1.001 * ratio;
+  fit_quads(groups, img, opt, s, quads);
+  EXPECT_TRUE(quads.empty());
+}
+
 // The ring check: a dark square on a lighter ground passes, the same corners on a flat image or with
 // the ring darker than the square fail, and a step below ring_min_step fails.
 TEST(OuterOutline, RingCheckWantsADarkSquareInsideALightRing) {
