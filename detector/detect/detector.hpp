@@ -74,12 +74,13 @@ inline ThresholdQuadOptions default_profile_threshold_quads() {
   q.fit.outer.max_size_px = 50;
   q.fit.outer.ring_check = true;
   q.fit.outer.ring_min_share = 1.0;
-  // Only groups with at least 7 boundary points per px of their box (session 19): of 71 k groups tried
-  // on 100 realistic frames, the 20 whose outline gave a tag held 8.3-27.6 points per px (the square's
-  // edge and inner ones), the rest a median of 5.8 (texture outlines, lines). Realistic seeds 1, 2, 3
-  // (200 frames) and the distance (36h11, 16h5, 25h9), angle and conditions sweeps: every row the same
-  // but ms; 6.5 % less time on the realistic set.
-  q.fit.outer.min_points_per_box_px = 7;
+  // Only groups with at least 4 boundary points per px of their box's width plus height (one plain
+  // outline gives about 4; session 19): of 71 k groups tried on 100 realistic frames, 27 k are left,
+  // and those whose outline gave a tag held 5-14 (a tag seen at 78 degrees 5.4). Realistic seeds 1, 2,
+  // 3 (200 frames): every row the same, 5.5 % less time; distance, angle, conditions and 6-DoF
+  // sweeps: the same detections (21 of the 30 k distance rows, all at 40-60 m, have their corners from
+  // another duplicate candidate).
+  q.fit.outer.min_points_per_box_px = 4;
   // The low-contrast look (low_contrast_quads.hpp; issue 17, session 9): faint small tags the 20/255
   // floor leaves unknown. Realistic set (200 frames): 20-24 px tags 146 -> 153 of 188, all sizes
   // 970 -> 988 of 1384, no wrong id, no tag lost; time / libapriltag d1 0.76 -> 0.84-0.87 on the

@@ -38,11 +38,12 @@ struct OuterOutlineOptions {
   // most (their many points) and never finds a tag the group's own fit missed.
   double max_size_px = std::numeric_limits<double>::infinity();
   // Which groups are worth the outline (quad_fit.hpp's use): tried only when the group holds at least
-  // this many boundary points per px of its box's longer side, >= 0 (0: every group). The outline finds
-  // tags whose group holds inner edges beside the square's (the payload's, the ring's outer edge), so
-  // many points for its size; most groups tried are texture outlines and lines, each costing an
-  // outline, a fit, the ring check and often an edge refinement, a decoding and a second look. A count
-  // over a length: the same at every scale (the second look's crops are resampled).
+  // this many boundary points per px of its bounding box's width plus height, >= 0 (0: every group).
+  // One closed outline, such as a plain square's, gives about 4; the outline finds tags whose group
+  // holds inner edges beside the square's (the payload's, the ring's outer edge), so more. Most groups
+  // tried are texture outlines and lines, each costing an outline, a fit, the ring check and often an
+  // edge refinement, a decoding and a second look. A count over a length: the same at every scale (the
+  // second look's crops are resampled) and for a tag seen edge-on (a thin box) as face-on.
   double min_points_per_box_px = 0;
   // The ring check (quad_fit.hpp's use; outline_has_ring below): an outline's quad is kept only when
   // it looks like a dark square inside a light ring. Most failed groups of a natural image give an

@@ -98,6 +98,12 @@ double box_side_px(std::span<const BoundaryPoint> group) {
   return 0.5 * std::max(xmax - xmin, ymax - ymin);
 }
 
+// The group's bounding box's width plus height, px.
+double box_half_perimeter_px(std::span<const BoundaryPoint> group) {
+  const auto [xmin, xmax, ymin, ymax] = bounding_box(group);
+  return 0.5 * ((xmax - xmin) + (ymax - ymin));
+}
+
 }  // namespace
 
 std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const ImageF& img, const QuadFitOptions& opt,
@@ -256,7 +262,7 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
     std::optional<Corners> second;
     if ((own_fit || !c) && opt.refit_outer_outline && opt.dark_inside &&
         static_cast<int>(group.size()) > std::max(opt.min_points, 4) && box_side_px(group) <= opt.outer.max_size_px &&
-        static_cast<double>(group.size()) >= opt.outer.min_points_per_box_px * box_side_px(group)) {
+        static_cast<double>(group.size()) >= opt.outer.min_points_per_box_px * box_half_perimeter_px(group)) {
       outer_outline_points(group, opt.outer, s.outer, s.side, static_cast<std::size_t>(std::max(opt.min_points, 4)));
       const double dropped = 1.0 - static_cast<double>(s.side.size()) / static_cast<double>(group.size());
       if (c ? dropped >= opt.outer.min_dropped : s.side.size() < group.size()) {

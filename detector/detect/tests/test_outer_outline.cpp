@@ -179,11 +179,11 @@ TEST(OuterOutline, MaxSizeSkipsLargerGroups) {
   EXPECT_EQ(quads.size(), 1u);
 }
 
-// The points-per-length gate: the group (box 20 px) is tried only when it holds at least
-// min_points_per_box_px points per px of its box.
+// The points-per-length gate: the group (box 20 x 20 px) is tried only when it holds at least
+// min_points_per_box_px points per px of its box's width plus height.
 TEST(OuterOutline, PointsPerBoxGateSkipsSparseGroups) {
   const BoundaryGroups groups = square_with_inner_cell();
-  const double ratio = static_cast<double>(groups.points.size()) / 20.0;
+  const double ratio = static_cast<double>(groups.points.size()) / 40.0;
   const ImageF img(80, 80, 0.5f);
   QuadFitScratch s;
   QuadFitOptions opt;
