@@ -92,16 +92,13 @@ void corner_candidates(QuadFitScratch& s, int max_maxima) {
   }
 }
 
-// The longer side of the group's bounding box, px.
-double box_side_px(std::span<const BoundaryPoint> group) {
+// Whether the outer outline is tried on `group`, by its bounding box (one pass over the points): the
+// box's longer side at most outer.max_size_px, and at least outer.min_points_per_box_px points per px
+// of its width plus height.
+bool outline_box_admits(std::span<const BoundaryPoint> group, const OuterOutlineOptions& outer) {
   const auto [xmin, xmax, ymin, ymax] = bounding_box(group);
-  return 0.5 * std::max(xmax - xmin, ymax - ymin);
-}
-
-// The group's bounding box's width plus height, px.
-double box_half_perimeter_px(std::span<const BoundaryPoint> group) {
-  const auto [xmin, xmax, ymin, ymax] = bounding_box(group);
-  return 0.5 * ((xmax - xmin) + (ymax - ymin));
+  const double w = 0.5 * (xmax - xmin), h = 0.5 * (ymax - ymin);
+  return std::max(w, h) <= outer.max_size_px && static_cast<double>(group.size()) >= outer.min_points_per_box_px * (w + h);
 }
 
 }  // namespace
@@ -261,8 +258,7 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
     // occluded fit: an occluder's outline is outermost there, and the fit has already left it out.
     std::optional<Corners> second;
     if ((own_fit || !c) && opt.refit_outer_outline && opt.dark_inside &&
-        static_cast<int>(group.size()) > std::max(opt.min_points, 4) && box_side_px(group) <= opt.outer.max_size_px &&
-        static_cast<double>(group.size()) >= opt.outer.min_points_per_box_px * box_half_perimeter_px(group)) {
+        static_cast<int>(group.size()) > std::max(opt.min_points, 4) && outline_box_admits(group, opt.outer)) {
       outer_outline_points(group, opt.outer, s.outer, s.side, static_cast<std::size_t>(std::max(opt.min_points, 4)));
       const double dropped = 1.0 - static_cast<double>(s.side.size()) / static_cast<double>(group.size());
       if (c ? dropped >= opt.outer.min_dropped : s.side.size() < group.size()) {
