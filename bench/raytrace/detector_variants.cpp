@@ -119,6 +119,8 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "outer_max") o.threshold_quads.fit.outer.max_size_px = x;
     else if (k == "outer_ring") o.threshold_quads.fit.outer.ring_check = x != 0;
     else if (k == "outer_ppb") o.threshold_quads.fit.outer.min_points_per_box_px = x;
+    else if (k == "inner") o.threshold_quads.fit.outer.innermost = x != 0;
+    else if (k == "inner_cov") o.threshold_quads.fit.outer.innermost_min_coverage = x;
     else if (k == "ring_share") o.threshold_quads.fit.outer.ring_min_share = x;
     else if (k == "ring_step") o.threshold_quads.fit.outer.ring_min_step = x;
     else if (k == "ring_ratio") o.threshold_quads.fit.outer.min_side_ratio = x;

@@ -103,6 +103,7 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   if (!(q.fit.outer.max_size_px > 0))  // infinity allowed: every group
     fail("threshold_quads.fit.outer.max_size_px", q.fit.outer.max_size_px, "must be > 0");
   finite_at_least("threshold_quads.fit.outer.min_points_per_box_px", q.fit.outer.min_points_per_box_px, 0);
+  within("threshold_quads.fit.outer.innermost_min_coverage", q.fit.outer.innermost_min_coverage, 0, 1);
   within("threshold_quads.fit.outer.ring_min_share", q.fit.outer.ring_min_share, 0, 1);
   finite_at_least("threshold_quads.fit.outer.ring_min_step", q.fit.outer.ring_min_step, 0);
   within("threshold_quads.fit.outer.min_side_ratio", q.fit.outer.min_side_ratio, 0, 1);

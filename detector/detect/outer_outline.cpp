@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "detect/homography.hpp"
@@ -13,6 +14,7 @@ namespace tagbench {
 void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutlineOptions& opt,
                           OuterOutlineScratch& s, std::vector<BoundaryPoint>& out, std::size_t min_points) {
   out.clear();
+  s.radius.clear();  // inner_outline_points: nothing to take from a call that kept nothing
   one_side_points(group, true, s.side);
   if (s.side.empty() || s.side.size() < min_points) return;
   const auto [xmin, xmax, ymin, ymax] = bounding_box(s.side);
@@ -43,6 +45,32 @@ void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutli
   const float keep = static_cast<float>(1 - opt.tolerance);
   for (std::size_t i = 0; i < n; ++i)
     if (s.radius[i] >= keep * s.widened[static_cast<std::size_t>(s.bin[i])]) out.push_back(s.side[i]);
+}
+
+std::size_t inner_outline_points(const OuterOutlineOptions& opt, OuterOutlineScratch& s, std::vector<BoundaryPoint>& out) {
+  out.clear();
+  const std::size_t n = s.radius.size(), nb = s.envelope.size();
+  if (n == 0 || nb == 0) return 0;
+  s.inner_envelope.assign(nb, std::numeric_limits<float>::infinity());
+  for (std::size_t i = 0; i < n; ++i) {
+    float& e = s.inner_envelope[static_cast<std::size_t>(s.bin[i])];
+    e = std::min(e, s.radius[i]);
+  }
+  const auto covered = static_cast<std::size_t>(
+      std::count_if(s.inner_envelope.begin(), s.inner_envelope.end(), [](float e) { return std::isfinite(e); }));
+  if (static_cast<double>(covered) < opt.innermost_min_coverage * static_cast<double>(nb)) return 0;
+  s.inner_widened.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b)
+    s.inner_widened[b] = std::min({s.inner_envelope[(b + nb - 1) % nb], s.inner_envelope[b], s.inner_envelope[(b + 1) % nb]});
+  const auto keep_in = static_cast<float>(1 + opt.tolerance), keep_out = static_cast<float>(1 - opt.tolerance);
+  std::size_t also_outer = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto b = static_cast<std::size_t>(s.bin[i]);
+    if (s.radius[i] > keep_in * s.inner_widened[b]) continue;
+    out.push_back(s.side[i]);
+    also_outer += s.radius[i] >= keep_out * s.widened[b];
+  }
+  return also_outer;
 }
 
 namespace {

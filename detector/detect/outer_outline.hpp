@@ -12,6 +12,15 @@
 //      (1 - tolerance) times the largest distance in its bin and the two bins beside it. The payload's
 //      inner edges lie at most 3/4 of the way out (one cell of the 8 of a 36h11 black square, 1/6 of
 //      16h5's), the square's edge all the way: a convex quad seen from a point inside it.
+// And when the outermost outline gives no quad: the innermost outward points instead
+// (inner_outline_points; OuterOutlineOptions::innermost). A tag on a plate or card darker than its
+// paper has only the 1-cell white ring between its black border and the plate; seen at a slant the
+// ring is 1-2 px, and where the threshold breaks it the border's dark component runs into the plate.
+// The group (that dark component against the ring, which leaks out to the ground) then holds the
+// square's edge, the plate's inner edge (inward steps: dropped by filter 1) and the plate's outer edge
+// (outward, further out: the outermost outline takes it). The square's edge is the innermost outward
+// outline; the payload's inner edges would be innermost, but a payload's light cell is its own light
+// component, another group, unless the ring leaks into it as well.
 // Coordinates: BoundaryPoint's doubled pixels (boundaries.hpp); the centre is the outward points'
 // bounding-box centre.
 #include <limits>
@@ -57,6 +66,15 @@ struct OuterOutlineOptions {
   // Off: there a 20 px tag is 10 px and its ring 1-1.5 px, and the refit cost the half-resolution
   // profile 0.84 -> 1.03 of libapriltag d2's time on the realistic set (target <= 1.0).
   bool at_half_resolution = false;
+  // quad_fit.hpp's use: when the outermost outline gives no quad (none fitted, or refused by the ring
+  // check), fit the innermost outward points (inner_outline_points), unless at least 80 % of them are
+  // outermost too (the same points, the same failed fit), under the same ring check. Off here; the
+  // default profile turns it on (detector.hpp).
+  bool innermost = false;
+  // Only when the outward points surround the centre: they fall into at least this share of the
+  // angular bins, [0, 1]. On the realistic set the groups whose innermost outline gave a tag covered
+  // 84-100 % of the bins; 0.75 leaves about 7 % of the groups that reach this step.
+  double innermost_min_coverage = 0.75;
 };
 
 struct OuterOutlineScratch {
@@ -64,6 +82,7 @@ struct OuterOutlineScratch {
   std::vector<float> radius;
   std::vector<int> bin;
   std::vector<float> envelope, widened;
+  std::vector<float> inner_envelope, inner_widened;  // inner_outline_points
 };
 
 // The outward, outermost points of `group` into `out` (cleared first); out may be empty. Empty too
@@ -71,6 +90,14 @@ struct OuterOutlineScratch {
 // quad: most groups of a textured ground end here, before the angles and distances are computed).
 void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutlineOptions& opt,
                           OuterOutlineScratch& scratch, std::vector<BoundaryPoint>& out, std::size_t min_points = 0);
+
+// The innermost of the outward points of the last outer_outline_points call on `scratch` (its centre
+// and angular bins; a point is kept when its distance from the centre is at most (1 + tolerance)
+// times the smallest in its bin and the two bins beside it) into `out` (cleared first; empty when
+// that call kept nothing, or when its outward points fall into fewer than innermost_min_coverage of
+// the bins). Returns how many of them that call's outline also kept.
+std::size_t inner_outline_points(const OuterOutlineOptions& opt, OuterOutlineScratch& scratch,
+                                 std::vector<BoundaryPoint>& out);
 
 // Whether the quad `q` (corners in order around it, px, pixel centres at integers) of `img` is darker
 // just inside each side than just outside: 4 samples a side (at 0.2, 0.4, 0.6, 0.8 of it), each a pair

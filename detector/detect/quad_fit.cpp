@@ -267,6 +267,14 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
         if (!c) c = o;
         else if (o && max_corner_distance(*o, *c) > opt.outer.min_corner_change_px) second = o;
       }
+      // Still nothing: the innermost outward outline (a square whose border ran into a darker plate).
+      if (!c && opt.outer.innermost) {
+        const std::size_t also_outer = inner_outline_points(opt.outer, s.outer, s.side);
+        if (s.side.size() >= 8 && static_cast<double>(also_outer) < 0.8 * static_cast<double>(s.side.size())) {
+          c = fit_quad(s.side, img, opt, s);
+          if (c && opt.outer.ring_check && !outline_has_ring(*c, img, opt.outer)) c.reset();
+        }
+      }
     }
     for (const auto& corners : {c, second}) {
       if (!corners) continue;

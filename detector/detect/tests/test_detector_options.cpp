@@ -151,6 +151,8 @@ TEST(DetectorOptions, EveryFieldIsChecked) {
        [](DetectorOptions& o) { o.threshold_quads.fit.outer.min_corner_change_px = -1; }, "-1"},
       {"threshold_quads.fit.outer.min_points_per_box_px",
        [](DetectorOptions& o) { o.threshold_quads.fit.outer.min_points_per_box_px = -1; }, "-1"},
+      {"threshold_quads.fit.outer.innermost_min_coverage",
+       [](DetectorOptions& o) { o.threshold_quads.fit.outer.innermost_min_coverage = 1.5; }, "1.5"},
       {"threshold_quads.blur_sigma", [](DetectorOptions& o) { o.threshold_quads.blur_sigma = kNaN; }, "nan"},
       {"threshold_quads.threshold.tile_size", [](DetectorOptions& o) { o.threshold_quads.threshold.tile_size = 0; }, "0"},
       {"threshold_quads.threshold.min_contrast",

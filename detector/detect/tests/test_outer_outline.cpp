@@ -269,4 +269,98 @@ TEST(OuterOutline, HalfResolutionRunsTheRefitOnlyWhenAsked) {
   EXPECT_EQ(quad_fit_options_for(fit, true).min_tag_width, 3);
 }
 
+namespace {
+// A 20 px square (30..50, Chebyshev distance 10 from (40, 40)) whose black border ran into a darker
+// plate round its paper: the square's edge (outward steps), the plate's inner edge at 12 px (inward)
+// and its outer edge at 15 px (outward), one group.
+BoundaryGroups square_leaked_into_plate() {
+  BoundaryGroups groups;
+  outline(groups.points, 80, 20, 1);
+  outline(groups.points, 80, 24, -1);
+  outline(groups.points, 80, 30, 1);
+  groups.offsets = {0, static_cast<std::uint32_t>(groups.points.size())};
+  return groups;
+}
+// Its image: square 0.1, white ring 0.6, plate 0.3, ground 0.8 but dark (0.1) left of the plate (a
+// shadow or a line touching it: the plate's outline has no lighter ring on that side).
+ImageF plate_image() {
+  ImageF img(80, 80, 0.8f);
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 80; ++x) {
+      const int d = std::max(std::abs(x - 40), std::abs(y - 40));
+      img.at(x, y) = d <= 10 ? 0.1f : d <= 12 ? 0.6f : d <= 15 ? 0.3f : x < 25 ? 0.1f : 0.8f;
+    }
+  return img;
+}
+}  // namespace
+
+// The innermost outward points of that group are the square's edge; the outermost, the plate's.
+TEST(OuterOutline, InnermostOutlineIsTheSquaresEdge) {
+  const BoundaryGroups groups = square_leaked_into_plate();
+  OuterOutlineScratch s;
+  std::vector<BoundaryPoint> outer, inner = {BoundaryPoint{}};
+  EXPECT_EQ(inner_outline_points({}, s, inner), 0u);  // no outline computed yet
+  EXPECT_TRUE(inner.empty());
+  outer_outline_points(groups.group(0), {}, s, outer);
+  ASSERT_FALSE(outer.empty());
+  for (const auto& p : outer) EXPECT_EQ(chebyshev(p, 80), 30);
+  EXPECT_EQ(inner_outline_points({}, s, inner), 0u);
+  ASSERT_GE(inner.size(), 140u);
+  for (const auto& p : inner) EXPECT_EQ(chebyshev(p, 80), 20);
+  // Outward points that do not surround the centre (here: all bins asked for, one more than there
+  // are): nothing.
+  OuterOutlineOptions all_bins;
+  all_bins.innermost_min_coverage = 1.01;
+  EXPECT_EQ(inner_outline_points(all_bins, s, inner), 0u);
+  EXPECT_TRUE(inner.empty());
+  // Only two sides of the square (a corner of texture): about half of the bins, under the default 0.75.
+  std::vector<BoundaryPoint> corner;
+  for (const auto& p : groups.group(0))
+    if (chebyshev(p, 80) == 20 && (p.x2 < 80 - 10 || p.y2 < 80 - 10) && p.gx + p.gy < 0) corner.push_back(p);
+  ASSERT_FALSE(corner.empty());
+  outer_outline_points(corner, {}, s, outer);
+  ASSERT_FALSE(outer.empty());
+  EXPECT_EQ(inner_outline_points({}, s, inner), 0u);
+  EXPECT_TRUE(inner.empty());
+  // A plain square: most innermost points are outermost too (fit_quads then skips the refit).
+  BoundaryGroups plain;
+  outline(plain.points, 80, 20, 1);
+  outer_outline_points(plain.points, {}, s, outer);
+  const std::size_t both = inner_outline_points({}, s, inner);
+  EXPECT_GE(static_cast<double>(both), 0.8 * static_cast<double>(inner.size()));
+}
+
+// In fit_quads: the group's own fit fails (tight max_line_fit_mse: no line passes near all three
+// outlines), the outermost outline's quad is the plate, refused by the ring check; with innermost the
+// square is the quad.
+TEST(OuterOutline, FitQuadsFallsBackOnTheInnermostOutline) {
+  const BoundaryGroups groups = square_leaked_into_plate();
+  const ImageF img = plate_image();
+  QuadFitScratch s;
+  QuadFitOptions opt;
+  opt.max_line_fit_mse = 1.0;
+  opt.refit_outer_outline = true;
+  opt.outer.ring_check = true;
+  opt.outer.ring_min_share = 1.0;
+  std::vector<Quad> quads;
+  fit_quads(groups, img, opt, s, quads);
+  EXPECT_TRUE(quads.empty());
+  opt.outer.innermost = true;
+  fit_quads(groups, img, opt, s, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  const Corners truth = {Eigen::Vector2d(30, 30), Eigen::Vector2d(50, 30), Eigen::Vector2d(50, 50),
+                         Eigen::Vector2d(30, 50)};
+  for (std::size_t i = 0; i < 4; ++i) {
+    double best = 1e9;
+    for (const auto& c : quads[0].corners) best = std::min(best, (c - truth[i]).norm());
+    EXPECT_LT(best, 0.6) << "corner " << i;
+  }
+  // Without the ring check the plate's quad is taken and the innermost outline is not tried.
+  quads.clear();
+  opt.outer.ring_check = false;
+  fit_quads(groups, img, opt, s, quads);
+  ASSERT_EQ(quads.size(), 1u);
+  EXPECT_GT((quads[0].corners[0] - Eigen::Vector2d(40, 40)).norm(), 20.0);
+}
+
 }  // namespace test_outer_outline
