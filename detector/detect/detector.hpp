@@ -61,17 +61,24 @@ enum class PayloadReaderKind {
 
 // The threshold quad finder's options in the default profile: occluded tags are fitted too, and a
 // group whose fit fails (or leaves out much of it) is fitted again on its outer outline
-// (fit.refit_outer_outline, outer_outline.hpp), only for groups up to 50 px across, only keeping
+// (fit.refit_outer_outline, outer_outline.hpp), only for groups up to 80 px across, only keeping
 // outline quads with a lighter ring around a darker border on every sample of every side
 // (outer.ring_check, ring_min_share 1: 0.75 let 16h5 false detections on the corpus rise 0.075 ->
 // 0.21 per image, 1 gives 0.12 for 4 fewer realistic tags of 929) and not at half resolution
 // (outer.at_half_resolution). Realistic set (200 frames): 20-24 px tags 123 -> 134 of 188, all sizes
 // 883 -> 925 of 1384; time / libapriltag d1 about 0.54 -> 0.66 on the corpus (issue 17, session 7).
+// 50 px until session 20: a 20 px tag's group often holds its plate (up to 3 cells round the tag) and
+// texture touching it, and with the points-per-length gate below the larger groups cost little.
 inline ThresholdQuadOptions default_profile_threshold_quads() {
   ThresholdQuadOptions q;
   q.fit.tolerate_occlusion = true;
   q.fit.refit_outer_outline = true;
-  q.fit.outer.max_size_px = 50;
+  // Up to 80 px (session 20, with the innermost outline below; realistic seeds 1, 2, 3, 200 frames):
+  // 1015 -> 1022, 980 -> 985, 1066 -> 1074 tags (20-24 px +1, +1, 0), none lost, no wrong id, +1.7 %
+  // time on realistic frames and +2.5 % on the corpus; 16h5 false detections on the corpus 157 -> 160
+  // of 1182 images; sweeps: the same detections (one angle and one 6-DoF row take their corners from
+  // another candidate).
+  q.fit.outer.max_size_px = 80;
   q.fit.outer.ring_check = true;
   q.fit.outer.ring_min_share = 1.0;
   // Only groups with at least 4 boundary points per px of their box's width plus height (one plain
@@ -84,7 +91,8 @@ inline ThresholdQuadOptions default_profile_threshold_quads() {
   // Where the outermost outline gives no quad, the innermost outward outline (outer_outline.hpp; session
   // 20): a tag whose border ran through a broken white ring into a darker plate. Realistic seeds 1, 2,
   // 3 (200 frames each): 1014 -> 1015, 974 -> 980, 1065 -> 1066 tags (20-24 px: 159 -> 160, 160 -> 164,
-  // 198), none lost, no wrong id; about 2.4 % more time.
+  // 198), none lost, no wrong id; +0.5 % time; the sweeps identical; 16h5 false detections on the
+  // corpus 156 -> 157 of 1182 images.
   q.fit.outer.innermost = true;
   // The low-contrast look (low_contrast_quads.hpp; issue 17, session 9): faint small tags the 20/255
   // floor leaves unknown. Realistic set (200 frames): 20-24 px tags 146 -> 153 of 188, all sizes
