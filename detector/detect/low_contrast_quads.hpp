@@ -29,7 +29,7 @@ namespace tagbench {
 struct LowContrastPassOptions {
   bool enabled = false;                 // off here; the default profile turns it on (detector.hpp)
   float min_contrast = 10.0f / 255.0f;  // the low floor, [0, 1]; below the main floor (else nothing runs)
-  double max_size_px = 48;              // regions whose box's longer side is at most this + 2 windows, > 0
+  double max_size_px = 48;              // regions whose box's longer side is at most this + 2 windows, > 0 (default profile: 64)
   double min_size_px = 16;              // and at least this, >= 0
   // A region must fill at least min_fill of its box with faint tiles and cover min_area_px: a faint
   // tag is a compact patch (its border, ring and payload all have some contrast), most faint texture

@@ -23,7 +23,8 @@ namespace tagbench {
 struct SecondLookOptions {
   bool enabled = false;       // off here; the default profile turns it on (DetectorOptions::second_look)
   double max_size_px = 48;    // only quads whose bounding box's longer side is at most this, > 0
-                              // (default profile: 64; 48 found 4 fewer of 1384 realistic tags)
+                              // (default profile: 80; 48 found 4 fewer of 1384 realistic tags than 64,
+                              // 64 4 fewer than 80)
   // ... and at least this, >= 0 (default profile: 16). Quads under 16 px were half of the looks on the
   // realistic set and none of them gave a quad that decoded (seeds 1 and 2, 200 frames each: 56,000
   // such looks); leaving them out gave the same detections there and on seed 3, and in every sweep,
