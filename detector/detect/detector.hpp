@@ -111,7 +111,7 @@ inline SecondLookOptions default_profile_second_look() {
   SecondLookOptions o;
   o.enabled = true;
   // Up to 80 px (64 until session 20; realistic seeds 1, 2, 3, 200 frames, with the low-contrast
-  // look's regions up to 64 px: 1022 -> 1026, 985 -> 992, 1074 -> 1080 tags, none lost, no wrong id;
+  // look's regions up to 64 px: 1022 -> 1026, 985 -> 995, 1074 -> 1080 tags, none lost, no wrong id;
   // +2.2 % time on realistic frames, +1.3 % on the corpus; sweeps and 16h5 false detections the same).
   o.max_size_px = 80;
   o.min_size_px = 16;

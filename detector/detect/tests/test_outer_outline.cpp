@@ -22,6 +22,16 @@ void outline(std::vector<BoundaryPoint>& pts, int c2, int half2, int sign) {
   }
 }
 int chebyshev(const BoundaryPoint& p, int c2) { return std::max(std::abs(p.x2 - c2), std::abs(p.y2 - c2)); }
+// Each corner of the 20 px square 30..50 has a corner of `q` within 0.6 px.
+void expect_square_30_50(const Corners& q) {
+  const Corners truth = {Eigen::Vector2d(30, 30), Eigen::Vector2d(50, 30), Eigen::Vector2d(50, 50),
+                         Eigen::Vector2d(30, 50)};
+  for (std::size_t i = 0; i < 4; ++i) {
+    double best = 1e9;
+    for (const auto& c : q) best = std::min(best, (c - truth[i]).norm());
+    EXPECT_LT(best, 0.6) << "corner " << i;
+  }
+}
 }  // namespace
 
 // A square's edge (20 px, outward steps), the payload's inner edges at 3/4 of the way out (outward
@@ -128,13 +138,7 @@ TEST(OuterOutline, FitQuadsFallsBackOnTheOutlineWhenTheGroupFitsNoQuad) {
   opt.refit_outer_outline = true;
   fit_quads(groups, img, opt, s, quads);
   ASSERT_EQ(quads.size(), 1u);
-  const Corners truth = {Eigen::Vector2d(30, 30), Eigen::Vector2d(50, 30), Eigen::Vector2d(50, 50),
-                         Eigen::Vector2d(30, 50)};
-  for (std::size_t i = 0; i < 4; ++i) {
-    double best = 1e9;
-    for (const auto& c : quads[0].corners) best = std::min(best, (c - truth[i]).norm());
-    EXPECT_LT(best, 0.6) << "corner " << i;
-  }
+  expect_square_30_50(quads[0].corners);
 }
 
 // A clean square's group: one quad, no second candidate (the outline drops nothing that matters).
@@ -348,13 +352,7 @@ TEST(OuterOutline, FitQuadsFallsBackOnTheInnermostOutline) {
   opt.outer.innermost = true;
   fit_quads(groups, img, opt, s, quads);
   ASSERT_EQ(quads.size(), 1u);
-  const Corners truth = {Eigen::Vector2d(30, 30), Eigen::Vector2d(50, 30), Eigen::Vector2d(50, 50),
-                         Eigen::Vector2d(30, 50)};
-  for (std::size_t i = 0; i < 4; ++i) {
-    double best = 1e9;
-    for (const auto& c : quads[0].corners) best = std::min(best, (c - truth[i]).norm());
-    EXPECT_LT(best, 0.6) << "corner " << i;
-  }
+  expect_square_30_50(quads[0].corners);
   // Without the ring check the plate's quad is taken and the innermost outline is not tried.
   quads.clear();
   opt.outer.ring_check = false;
