@@ -50,7 +50,9 @@ struct QuadFitOptions {
   // fit again on its outer outline (outer_outline.hpp: the outward points outermost from the centre),
   // which drops the payload's inner edges a leaking white ring adds to the group; and when the
   // group's own fit succeeded but the outline leaves out outer.min_dropped of its points, add the
-  // outline's quad as a second candidate. Off here; the default profile turns it on (DetectorOptions).
+  // outline's quad as a second candidate; where the outline gives no quad either, its innermost
+  // outward points when outer.innermost (a border run into a darker plate round the tag). Off here;
+  // the default profile turns both on (DetectorOptions).
   bool refit_outer_outline = false;
   OuterOutlineOptions outer;
   // Beyond AprilTag 2: when the quad fit above fails on a dark-inside group, try fit_quad_occluded
