@@ -11,6 +11,20 @@
 
 namespace tagbench {
 
+namespace {
+
+// Each bin's envelope taken over the bin and its two neighbours (cyclic), `pick` of the three (max:
+// the outermost point near the bin, min: the innermost): a bin that holds no point of the edge sought
+// still sees the edge next to it.
+template <class Pick>
+void widen_cyclic(const std::vector<float>& envelope, std::vector<float>& widened, Pick pick) {
+  const std::size_t nb = envelope.size();
+  widened.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) widened[b] = pick(pick(envelope[(b + nb - 1) % nb], envelope[b]), envelope[(b + 1) % nb]);
+}
+
+}  // namespace
+
 void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutlineOptions& opt,
                           OuterOutlineScratch& s, std::vector<BoundaryPoint>& out, std::size_t min_points) {
   out.clear();
@@ -35,13 +49,7 @@ void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutli
     float& e = s.envelope[static_cast<std::size_t>(b)];
     e = std::max(e, s.radius[i]);
   }
-  // The envelope over each bin and its two neighbours (cyclic): a bin that holds only inner points
-  // (no point of the outer edge fell into it) still sees the outer edge next to it.
-  s.widened.resize(static_cast<std::size_t>(nb));
-  for (int b = 0; b < nb; ++b)
-    s.widened[static_cast<std::size_t>(b)] =
-        std::max({s.envelope[static_cast<std::size_t>((b + nb - 1) % nb)], s.envelope[static_cast<std::size_t>(b)],
-                  s.envelope[static_cast<std::size_t>((b + 1) % nb)]});
+  widen_cyclic(s.envelope, s.widened, [](float a, float b) { return std::max(a, b); });
   const float keep = static_cast<float>(1 - opt.tolerance);
   for (std::size_t i = 0; i < n; ++i)
     if (s.radius[i] >= keep * s.widened[static_cast<std::size_t>(s.bin[i])]) out.push_back(s.side[i]);
@@ -59,9 +67,7 @@ std::size_t inner_outline_points(const OuterOutlineOptions& opt, OuterOutlineScr
   const auto covered = static_cast<std::size_t>(
       std::count_if(s.inner_envelope.begin(), s.inner_envelope.end(), [](float e) { return std::isfinite(e); }));
   if (static_cast<double>(covered) < opt.innermost_min_coverage * static_cast<double>(nb)) return 0;
-  s.inner_widened.resize(nb);
-  for (std::size_t b = 0; b < nb; ++b)
-    s.inner_widened[b] = std::min({s.inner_envelope[(b + nb - 1) % nb], s.inner_envelope[b], s.inner_envelope[(b + 1) % nb]});
+  widen_cyclic(s.inner_envelope, s.inner_widened, [](float a, float b) { return std::min(a, b); });
   const auto keep_in = static_cast<float>(1 + opt.tolerance), keep_out = static_cast<float>(1 - opt.tolerance);
   std::size_t also_outer = 0;
   for (std::size_t i = 0; i < n; ++i) {
