@@ -143,6 +143,8 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "glook_win") o.group_look.min_window_px = x;
     else if (k == "glook_n") o.group_look.max_windows = static_cast<int>(x);
     else if (k == "lowc") o.threshold_quads.low_contrast.enabled = x != 0;
+    else if (k == "psq") o.printed_square.enabled = x != 0;
+    else if (k == "psq_refine") o.printed_square.refine_edges = x != 0;
     else if (k == "lowc_contrast") o.threshold_quads.low_contrast.min_contrast = static_cast<float>(x);
     else if (k == "lowc_max") o.threshold_quads.low_contrast.max_size_px = x;
     else if (k == "lowc_ring") o.threshold_quads.low_contrast.ring_check = x != 0;

@@ -34,6 +34,7 @@
 #include "code_refit.hpp"
 #include "photometric_guard.hpp"
 #include "pose_choice.hpp"
+#include "printed_square.hpp"
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
@@ -186,6 +187,10 @@ struct DetectorOptions {
   // without a candidate, 0 of the 20 at 20-24 px (1 with a 1 px blur first): at those contrasts no
   // single threshold gives the square's outline (bench/experiments/candidate_loss, session 10).
   GroupLookOptions group_look;
+  // Beyond the paper: each threshold quad that did not decode is also read as a printed square (the
+  // white ring classed with the border): the black square inside it is a further candidate
+  // (printed_square.hpp; quad_finder kThreshold). Default profile on; paper(): off.
+  PrintedSquareOptions printed_square{.enabled = true};
   // Beyond the paper: a quad whose reading no family decodes within its corrected bits is decoded
   // soft (soft_decode.hpp): the codeword likeliest under the cells' signed confidences, accepted only
   // by a likelihood-ratio rule calibrated to give no false detection of 36h11 on the corpus, and only

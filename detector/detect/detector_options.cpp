@@ -164,6 +164,7 @@ DetectorOptions DetectorOptions::paper() {
   o.pose_choice.enabled = false;
   o.second_look.enabled = false;
   o.group_look.enabled = false;
+  o.printed_square.enabled = false;
   o.soft_decode.enabled = false;
   o.threshold_quads.low_contrast.enabled = false;
   return o;
