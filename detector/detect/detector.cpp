@@ -185,15 +185,12 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     if (trace) trace->quads.insert(trace->quads.end(), quads.begin(), quads.end());
     decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
   };
-  std::vector<bool> undecoded;  // per quad of found.quads: no family decoded it (first pass, bent read)
-  if (second_look || printed_square) {
-    undecoded.resize(found.quads.size());
-    for (std::size_t i = 0; i < undecoded.size(); ++i)
-      undecoded[i] = (*outcomes)[first_outcome + i].fate != QuadOutcome::Fate::kDecoded;
-  }
+  std::vector<Quad> again;  // the second look's quads (their outcomes follow found.quads')
   if (second_look) {  // second_look.hpp: the quads that did not decode, looked at again
-    const std::vector<bool>& look = undecoded;
-    const std::vector<Quad> again = second_look_quads(gray, found.quads, look, opt_.threshold_quads, opt_.second_look);
+    std::vector<bool> look(found.quads.size());
+    for (std::size_t i = 0; i < look.size(); ++i)
+      look[i] = (*outcomes)[first_outcome + i].fate != QuadOutcome::Fate::kDecoded;
+    again = second_look_quads(gray, found.quads, look, opt_.threshold_quads, opt_.second_look);
     decode_more(again);
     if (opt_.group_look.enabled && !opt_.half_resolution)  // group_look.hpp: groups that gave no quad
       decode_more(group_look_quads(gray, workspace.impl().threshold_quads.pass.groups, found.quads, look, again,
@@ -202,13 +199,18 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   if (printed_square) {  // printed_square.hpp: the undecoded quads read as printed squares
     std::vector<int> widths;
     for (const TagFamily& f : families_) widths.push_back(f.payload_width());
-    // Not the quads the border pre-filter refused: a printed square's outer cells (the grey paper)
+    // The first pass's quads and the second look's, each looked at when it was read but not decoded:
+    // not when the border pre-filter refused it, as a printed square's outer cells (the grey paper)
     // are darker than the lighter card round it, which is what the pre-filter asks of a black square.
-    std::vector<bool> look = undecoded;
-    for (std::size_t i = 0; i < look.size(); ++i)
-      look[i] = look[i] && (*outcomes)[first_outcome + i].fate != QuadOutcome::Fate::kBorderRejected;
+    std::vector<Quad> quads(found.quads.begin(), found.quads.end());
+    quads.insert(quads.end(), again.begin(), again.end());
+    std::vector<bool> look(quads.size());
+    for (std::size_t i = 0; i < look.size(); ++i) {
+      const QuadOutcome::Fate fate = (*outcomes)[first_outcome + i].fate;
+      look[i] = fate != QuadOutcome::Fate::kDecoded && fate != QuadOutcome::Fate::kBorderRejected;
+    }
     const std::size_t first_new = decoded.size();
-    decode_more(black_squares_in_printed_squares(found.quads, look, widths));
+    decode_more(black_squares_in_printed_squares(quads, look, widths));
     // The inner squares are placed only as well as the outer quad was; the few that decode are
     // refined on the full-resolution image, like every threshold quad (after decoding: refining
     // every candidate first cost 6-10 % more time).
