@@ -144,6 +144,11 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "glook_n") o.group_look.max_windows = static_cast<int>(x);
     else if (k == "lowc") o.threshold_quads.low_contrast.enabled = x != 0;
     else if (k == "psq") o.printed_square.enabled = x != 0;
+    else if (k == "rq") o.ring_quads.enabled = x != 0;
+    else if (k == "rq_min") o.ring_quads.min_size_px = x;
+    else if (k == "rq_max") o.ring_quads.max_size_px = x;
+    else if (k == "rq_hole") o.ring_quads.min_hole = x;
+    else if (k == "rq_fill") o.ring_quads.max_fill = x;
     else if (k == "psq_refine") o.printed_square.refine_edges = x != 0;
     else if (k == "lowc_contrast") o.threshold_quads.low_contrast.min_contrast = static_cast<float>(x);
     else if (k == "lowc_max") o.threshold_quads.low_contrast.max_size_px = x;

@@ -16,6 +16,7 @@
 #include "detect/find_threshold_quads_in_image.hpp"
 #include "detect/photometric_refine.hpp"
 #include "detect/printed_square.hpp"
+#include "detect/ring_quads.hpp"
 #include "detect/suppress_duplicates.hpp"
 #include "detect/workspace_impl.hpp"
 
@@ -196,9 +197,20 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       decode_more(group_look_quads(gray, workspace.impl().threshold_quads.pass.groups, found.quads, look, again,
                                    opt_.threshold_quads, opt_.second_look, opt_.group_look));
   }
-  if (printed_square) {  // printed_square.hpp: the undecoded quads read as printed squares
+  // Quads read as printed squares (printed_square.hpp): the black square inside each decoded; the
+  // inner squares are placed only as well as the outer quad was, so the few that decode are refined
+  // on the full-resolution image like every threshold quad (after decoding: refining every candidate
+  // first cost 6-10 % more time).
+  const auto decode_printed = [&](const std::vector<Quad>& quads, const std::vector<bool>& look) {
     std::vector<int> widths;
     for (const TagFamily& f : families_) widths.push_back(f.payload_width());
+    const std::size_t first_new = decoded.size();
+    decode_more(black_squares_in_printed_squares(quads, look, widths));
+    if (opt_.printed_square.refine_edges)
+      for (std::size_t i = first_new; i < decoded.size(); ++i)
+        move_detection_to(decoded[i], refine_quad_edges(gray, decoded[i].corners, opt_.threshold_quads.refine));
+  };
+  if (printed_square) {
     // The first pass's quads and the second look's, each looked at when it was read but not decoded:
     // not when the border pre-filter refused it, as a printed square's outer cells (the grey paper)
     // are darker than the lighter card round it, which is what the pre-filter asks of a black square.
@@ -209,14 +221,13 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       const QuadOutcome::Fate fate = (*outcomes)[first_outcome + i].fate;
       look[i] = fate != QuadOutcome::Fate::kDecoded && fate != QuadOutcome::Fate::kBorderRejected;
     }
-    const std::size_t first_new = decoded.size();
-    decode_more(black_squares_in_printed_squares(quads, look, widths));
-    // The inner squares are placed only as well as the outer quad was; the few that decode are
-    // refined on the full-resolution image, like every threshold quad (after decoding: refining
-    // every candidate first cost 6-10 % more time).
-    if (opt_.printed_square.refine_edges)
-      for (std::size_t i = first_new; i < decoded.size(); ++i)
-        move_detection_to(decoded[i], refine_quad_edges(gray, decoded[i].corners, opt_.threshold_quads.refine));
+    decode_printed(quads, look);
+  }
+  if (opt_.ring_quads.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution) {
+    // ring_quads.hpp: white rings on a darker card, light inside, read as printed squares
+    auto& tq = workspace.impl().threshold_quads;
+    const std::vector<Quad> rings = ring_quads(tq.pass.groups, gray, opt_.threshold_quads.fit, opt_.ring_quads, tq.fit);
+    decode_printed(rings, std::vector<bool>(rings.size(), true));
   }
   if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their likeliest code
     PayloadAreaOptions area = opt_.payload_area;

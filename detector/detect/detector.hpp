@@ -35,6 +35,7 @@
 #include "photometric_guard.hpp"
 #include "pose_choice.hpp"
 #include "printed_square.hpp"
+#include "ring_quads.hpp"
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
@@ -191,6 +192,10 @@ struct DetectorOptions {
   // white ring classed with the border): the black square inside it is a further candidate
   // (printed_square.hpp; quad_finder kThreshold). Default profile on; paper(): off.
   PrintedSquareOptions printed_square{.enabled = true};
+  // Beyond the paper: white rings on a darker card (light-inside boundary groups of tag size) fitted
+  // as quads and read as printed squares (ring_quads.hpp; quad_finder kThreshold, full resolution
+  // only; the tags found refined when printed_square.refine_edges). Default profile on; paper(): off.
+  RingQuadOptions ring_quads{.enabled = true};
   // Beyond the paper: a quad whose reading no family decodes within its corrected bits is decoded
   // soft (soft_decode.hpp): the codeword likeliest under the cells' signed confidences, accepted only
   // by a likelihood-ratio rule calibrated to give no false detection of 36h11 on the corpus, and only
@@ -283,6 +288,7 @@ struct DetectorOptions {
   //                           finite > 0, kink.max_fold_offset [0, 0.9], kink.cells_across >= 1;
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
   //   soft_decode             max_bit_errors 0..64; max_distance, min_gap, confidence_cap finite >= 0;
+  //   ring_quads              min_size_px, min_hole finite >= 0; max_size_px, max_fill finite > 0;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
   //                           without; distortion only with a camera, finite;
   //   max_pixels              1..kMaxPixelsCeiling.

@@ -165,6 +165,7 @@ DetectorOptions DetectorOptions::paper() {
   o.second_look.enabled = false;
   o.group_look.enabled = false;
   o.printed_square.enabled = false;
+  o.ring_quads.enabled = false;
   o.soft_decode.enabled = false;
   o.threshold_quads.low_contrast.enabled = false;
   return o;
@@ -251,6 +252,10 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("group_look.margin_px", group_look.margin_px, 0);
   if (group_look.min_points < 1) fail("group_look.min_points", static_cast<long long>(group_look.min_points), "must be >= 1");
   if (group_look.max_windows < 0) fail("group_look.max_windows", static_cast<long long>(group_look.max_windows), "must be >= 0");
+  finite_at_least("ring_quads.min_size_px", ring_quads.min_size_px, 0);
+  finite_above("ring_quads.max_size_px", ring_quads.max_size_px, 0);
+  finite_above("ring_quads.max_fill", ring_quads.max_fill, 0);
+  finite_at_least("ring_quads.min_hole", ring_quads.min_hole, 0);
   finite_at_least("photometric_guard.max_kink_px", photometric_guard.max_kink_px, 0);
   finite_at_least("photometric_guard.max_blur_px", photometric_guard.max_blur_px, 0);
   finite_at_least("photometric_guard.min_kink_significance", photometric_guard.min_kink_significance, 0);

@@ -25,6 +25,7 @@ std::vector<Quad> black_squares_in_printed_squares(std::span<const Quad> quads, 
       const double s = static_cast<double>(d + 2) / static_cast<double>(d + 4);
       Quad q = quads[i];
       for (std::size_t k = 0; k < 4; ++k) q.corners[k] = apply_homography(*H, s * square[k]);
+      q.observed_perimeter = 0;  // none of its outline was seen: it loses ties in suppress_duplicates
       out.push_back(q);
     }
   }

@@ -17,7 +17,9 @@
 // +5, +4), 1 lost, +3-4 % time (session 21).
 //
 // Coordinates: image pixels, centres at integer coordinates; quads as in quad_search.hpp (the new
-// quads keep their quad's corner order and observed_perimeter).
+// quads keep their quad's corner order; their observed_perimeter is 0: none of their outline was
+// seen, so of two detections of one tag with equal Hamming distance suppress_duplicates keeps the
+// one from a quad that was, which the occlusion refit would otherwise often withdraw).
 #include <span>
 #include <vector>
 

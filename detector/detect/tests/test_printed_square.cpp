@@ -34,6 +34,7 @@ TEST(PrintedSquare, BlackSquareIsTheInnerPartByPayloadWidth) {
   const Corners want6 = synth::square_tag_corners(60, 50, 40, 0.3), want4 = synth::square_tag_corners(60, 50, 37.5, 0.3);
   EXPECT_LT(synth::corner_rms(inner[0].corners, want6), 1e-9);
   EXPECT_LT(synth::corner_rms(inner[1].corners, want4), 1e-9);
+  EXPECT_EQ(inner[0].observed_perimeter, 0.0);
   // Under perspective the inner square follows the homography, not a shrink about the centroid.
   const Corners slanted{Eigen::Vector2d(10, 10), Eigen::Vector2d(70, 14), Eigen::Vector2d(66, 50), Eigen::Vector2d(14, 40)};
   const auto s = black_squares_in_printed_squares(std::vector<Quad>{quad_of(slanted)}, {true}, std::vector<int>{6});

@@ -1,0 +1,53 @@
+#include "detect/ring_quads.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace tagbench {
+
+std::vector<Quad> ring_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& fit,
+                             const RingQuadOptions& opt, QuadFitScratch& scratch) {
+  std::vector<Quad> out;
+  if (!opt.enabled) return out;
+  if (groups.light_pixels.size() != groups.count())
+    throw std::invalid_argument("ring_quads: groups.light_pixels has " + std::to_string(groups.light_pixels.size()) +
+                                " entries for " + std::to_string(groups.count()) + " groups");
+  QuadFitOptions light = fit;
+  light.dark_inside = false;
+  light.light_inside = true;
+  const std::size_t min_points = static_cast<std::size_t>(std::max(fit.min_points, 4));
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_light;  // (light id, group)
+  if (opt.min_hole > 0) {
+    for (std::size_t g = 0; g < groups.count(); ++g) by_light.emplace_back(groups.light_id[g], static_cast<std::uint32_t>(g));
+    std::sort(by_light.begin(), by_light.end());
+  }
+  for (std::size_t g = 0; g < groups.count(); ++g) {
+    const auto group = groups.group(g);
+    if (group.size() < min_points) continue;
+    const auto [xmin, xmax, ymin, ymax] = bounding_box(group);  // doubled pixels
+    const double w = 0.5 * (xmax - xmin), h = 0.5 * (ymax - ymin), side = std::max(w, h);
+    if (side < opt.min_size_px || side > opt.max_size_px) continue;
+    if (static_cast<double>(groups.light_pixels[g]) > opt.max_fill * w * h) continue;
+    if (opt.min_hole > 0) {
+      bool hole = false;
+      auto it = std::lower_bound(by_light.begin(), by_light.end(), std::make_pair(groups.light_id[g], std::uint32_t{0}));
+      for (; !hole && it != by_light.end() && it->first == groups.light_id[g]; ++it) {
+        if (it->second == g) continue;
+        const auto b = bounding_box(groups.group(it->second));
+        hole = b.xmin > xmin && b.xmax < xmax && b.ymin > ymin && b.ymax < ymax &&
+               (b.xmax - b.xmin) >= opt.min_hole * (xmax - xmin) && (b.ymax - b.ymin) >= opt.min_hole * (ymax - ymin);
+      }
+      if (!hole) continue;
+    }
+    const auto c = fit_quad(group, img, light, scratch);
+    if (!c) continue;
+    Quad q;
+    q.corners = *c;
+    q.segments = {-1, -1, -1, -1};
+    for (std::size_t i = 0; i < 4; ++i) q.observed_perimeter += ((*c)[(i + 1) & 3] - (*c)[i]).norm();
+    out.push_back(q);
+  }
+  return out;
+}
+
+}  // namespace tagbench
