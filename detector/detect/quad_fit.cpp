@@ -235,6 +235,14 @@ void one_side_points(std::span<const BoundaryPoint> group, bool outward, std::ve
   }
 }
 
+Quad fitted_quad(const Corners& corners) {
+  Quad q;
+  q.corners = corners;
+  q.segments = {-1, -1, -1, -1};
+  for (std::size_t i = 0; i < 4; ++i) q.observed_perimeter += (corners[(i + 1) & 3] - corners[i]).norm();
+  return q;
+}
+
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s,
                std::vector<Quad>& out) {
   for (std::size_t g = 0; g < groups.count(); ++g) {
@@ -276,14 +284,8 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
         }
       }
     }
-    for (const auto& corners : {c, second}) {
-      if (!corners) continue;
-      Quad q;
-      q.corners = *corners;
-      q.segments = {-1, -1, -1, -1};
-      for (std::size_t i = 0; i < 4; ++i) q.observed_perimeter += ((*corners)[(i + 1) & 3] - (*corners)[i]).norm();
-      out.push_back(q);
-    }
+    for (const auto& corners : {c, second})
+      if (corners) out.push_back(fitted_quad(*corners));
   }
 }
 

@@ -98,6 +98,9 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
 // the centre of the group's bounding box, into `out` (cleared first).
 void one_side_points(std::span<const BoundaryPoint> group, bool outward, std::vector<BoundaryPoint>& out);
 
+// A fitted quad as a candidate: these corners, segments -1, observed_perimeter their perimeter.
+Quad fitted_quad(const Corners& corners);
+
 // Every group's quad appended to `out` (observed_perimeter = the quad's perimeter, segments = -1).
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& scratch,
                std::vector<Quad>& out);

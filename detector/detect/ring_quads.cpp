@@ -39,13 +39,7 @@ std::vector<Quad> ring_quads(const BoundaryGroups& groups, const ImageF& img, co
       }
       if (!hole) continue;
     }
-    const auto c = fit_quad(group, img, light, scratch);
-    if (!c) continue;
-    Quad q;
-    q.corners = *c;
-    q.segments = {-1, -1, -1, -1};
-    for (std::size_t i = 0; i < 4; ++i) q.observed_perimeter += ((*c)[(i + 1) & 3] - (*c)[i]).norm();
-    out.push_back(q);
+    if (const auto c = fit_quad(group, img, light, scratch)) out.push_back(fitted_quad(*c));
   }
   return out;
 }
