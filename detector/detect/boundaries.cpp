@@ -188,14 +188,6 @@ void group_boundaries(const TernaryImage& img, const Components& comp, const Bou
   out.points.resize(s.raw.size());
   for (std::size_t i = 0; i < s.raw.size(); ++i) out.points[s.fill[s.raw_group[i]]++] = s.raw[i];
   if (ng == 0) out.offsets.clear();
-  out.light_pixels.assign(ng, 0);
-  out.light_id.assign(ng, kNoComponent);
-  for (std::size_t g = 0; g < ng; ++g) {
-    const BoundaryPoint& p = out.points[out.offsets[g]];
-    const std::uint32_t id = comp.label_at((p.x2 + p.gx) / 2, (p.y2 + p.gy) / 2);
-    out.light_id[g] = id;
-    if (id != kNoComponent) out.light_pixels[g] = comp.size[id];
-  }
 }
 
 BoundaryGroups group_boundaries(const TernaryImage& img, const Components& comp, const BoundaryOptions& opt) {

@@ -46,8 +46,6 @@ inline DoubledBox bounding_box(std::span<const BoundaryPoint> points) {
 struct BoundaryGroups {
   std::vector<BoundaryPoint> points;
   std::vector<std::uint32_t> offsets;  // count() + 1 entries (empty when there are no groups)
-  std::vector<std::uint32_t> light_pixels;  // per group: its light component's pixel count (ring_quads.hpp)
-  std::vector<std::uint32_t> light_id;      // per group: its light component's id (kNoComponent if none)
   std::size_t count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::span<const BoundaryPoint> group(std::size_t g) const {
     return {points.data() + offsets[g], points.data() + offsets[g + 1]};

@@ -226,7 +226,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   if (opt_.ring_quads.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution) {
     // ring_quads.hpp: white rings on a darker card, light inside, read as printed squares
     auto& tq = workspace.impl().threshold_quads;
-    const std::vector<Quad> rings = ring_quads(tq.pass.groups, gray, opt_.threshold_quads.fit, opt_.ring_quads, tq.fit);
+    const std::vector<Quad> rings = ring_quads(tq.pass.groups, tq.pass.components, gray, opt_.threshold_quads.fit,
+                                                 opt_.ring_quads, tq.fit);
     decode_printed(rings, std::vector<bool>(rings.size(), true));
   }
   if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their likeliest code

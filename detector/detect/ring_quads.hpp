@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "boundaries.hpp"
+#include "components.hpp"
 #include "image.hpp"
 #include "quad_fit.hpp"
 #include "quad_search.hpp"
@@ -41,9 +42,10 @@ struct RingQuadOptions {
 };
 
 // The light-inside quads of the groups of `groups` selected as above, fitted with `fit` (its
-// polarity replaced: light inside only), in group order. `groups.light_pixels` must be filled
-// (group_boundaries does).
-std::vector<Quad> ring_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& fit,
-                             const RingQuadOptions& opt, QuadFitScratch& scratch);
+// polarity replaced: light inside only), in group order. `components` are those the groups were
+// found between (group_boundaries), on an image of img's size (else std::invalid_argument): each
+// group's light component is the one on the light side of its first point.
+std::vector<Quad> ring_quads(const BoundaryGroups& groups, const Components& components, const ImageF& img,
+                             const QuadFitOptions& fit, const RingQuadOptions& opt, QuadFitScratch& scratch);
 
 }  // namespace tagbench

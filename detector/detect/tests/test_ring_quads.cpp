@@ -50,9 +50,8 @@ struct Pass {
 TEST(RingQuads, FitsTheRingsOuterSquare) {
   const ImageF img = ring_image(80, 40, 40, 30, 3, 0.2f, 0.8f, 0.25f);
   Pass p(img);
-  ASSERT_EQ(p.groups.light_pixels.size(), p.groups.count());
   QuadFitScratch s;
-  const auto quads = ring_quads(p.groups, img, QuadFitOptions{}, RingQuadOptions{.enabled = true}, s);
+  const auto quads = ring_quads(p.groups, p.comp, img, QuadFitOptions{}, RingQuadOptions{.enabled = true}, s);
   ASSERT_FALSE(quads.empty());
   bool outer = false;
   for (const Quad& q : quads) {
@@ -68,20 +67,19 @@ TEST(RingQuads, FitsTheRingsOuterSquare) {
   EXPECT_TRUE(outer);
   // Off, a box outside [min, max], or a light component over max_fill of the box: nothing. (The
   // ring's light pixels are about 4 x 30 x 3 = 360 of the box's 900.)
-  EXPECT_TRUE(ring_quads(p.groups, img, QuadFitOptions{}, RingQuadOptions{}, s).empty());
-  EXPECT_TRUE(ring_quads(p.groups, img, QuadFitOptions{}, RingQuadOptions{.enabled = true, .max_size_px = 25}, s).empty());
-  EXPECT_TRUE(ring_quads(p.groups, img, QuadFitOptions{}, RingQuadOptions{.enabled = true, .min_size_px = 35}, s).empty());
-  EXPECT_TRUE(ring_quads(p.groups, img, QuadFitOptions{}, RingQuadOptions{.enabled = true, .max_fill = 0.3}, s).empty());
-  EXPECT_FALSE(ring_quads(p.groups, img, QuadFitOptions{}, RingQuadOptions{.enabled = true, .max_fill = 0.5}, s).empty());
+  EXPECT_TRUE(ring_quads(p.groups, p.comp, img, QuadFitOptions{}, RingQuadOptions{}, s).empty());
+  EXPECT_TRUE(ring_quads(p.groups, p.comp, img, QuadFitOptions{}, RingQuadOptions{.enabled = true, .max_size_px = 25}, s).empty());
+  EXPECT_TRUE(ring_quads(p.groups, p.comp, img, QuadFitOptions{}, RingQuadOptions{.enabled = true, .min_size_px = 35}, s).empty());
+  EXPECT_TRUE(ring_quads(p.groups, p.comp, img, QuadFitOptions{}, RingQuadOptions{.enabled = true, .max_fill = 0.3}, s).empty());
+  EXPECT_FALSE(ring_quads(p.groups, p.comp, img, QuadFitOptions{}, RingQuadOptions{.enabled = true, .max_fill = 0.5}, s).empty());
   // A light square with nothing dark inside has no inner edge: refused by min_hole (its flat middle is
   // unknown to the threshold, so its light component is only a band and passes max_fill).
   const ImageF filled = ring_image(80, 40, 40, 30, 3, 0.2f, 0.8f, 0.8f);
   Pass f(filled);
-  EXPECT_FALSE(ring_quads(f.groups, filled, QuadFitOptions{}, RingQuadOptions{.enabled = true, .min_hole = 0}, s).empty());
-  EXPECT_TRUE(ring_quads(f.groups, filled, QuadFitOptions{}, RingQuadOptions{.enabled = true}, s).empty());
-  BoundaryGroups bad = p.groups;
-  bad.light_pixels.clear();
-  EXPECT_THROW(ring_quads(bad, img, QuadFitOptions{}, RingQuadOptions{.enabled = true}, s), std::invalid_argument);
+  EXPECT_FALSE(ring_quads(f.groups, f.comp, filled, QuadFitOptions{}, RingQuadOptions{.enabled = true, .min_hole = 0}, s).empty());
+  EXPECT_TRUE(ring_quads(f.groups, f.comp, filled, QuadFitOptions{}, RingQuadOptions{.enabled = true}, s).empty());
+  const ImageF other(81, 80, 0.5f);  // components of another image's size
+  EXPECT_THROW(ring_quads(p.groups, p.comp, other, QuadFitOptions{}, RingQuadOptions{.enabled = true}, s), std::invalid_argument);
 }
 
 // A tag on a dark card: its white ring gives a ring quad whose printed-square reading is the black
@@ -93,7 +91,7 @@ TEST(RingQuads, ARingsInnerSquareIsTheTag) {
   const ImageF img = synth::render_tag(96, 96, tag_cells(fam, 5), synth::homography_for(truth), 0.2f, 8, 0.05f, 0.9f);
   Pass p(img);
   QuadFitScratch s;
-  const auto rings = ring_quads(p.groups, img, QuadFitOptions{}, RingQuadOptions{.enabled = true}, s);
+  const auto rings = ring_quads(p.groups, p.comp, img, QuadFitOptions{}, RingQuadOptions{.enabled = true}, s);
   const auto inner = black_squares_in_printed_squares(rings, std::vector<bool>(rings.size(), true), std::vector<int>{6});
   double best = 1e9;
   for (const Quad& q : inner)
