@@ -8,26 +8,18 @@
 #include "codes/tag_layout.hpp"
 #include "detect/detector.hpp"
 #include "detect/printed_square.hpp"
+#include "detect/quad_fit.hpp"
 #include "synthetic_tag.hpp"
 
 namespace test_printed_square {
 
 using namespace tagbench;
 
-namespace {
-Quad quad_of(const Corners& c) {
-  Quad q;
-  q.corners = c;
-  q.segments = {-1, -1, -1, -1};
-  return q;
-}
-}  // namespace
-
 // A printed 36h11 tag is 10 cells across, its black square 8: the square inside a 50 px printed
 // square is 40 px, about the same centre, corners in the same order; 16h5 (d = 4): 6 / 8 of it.
 TEST(PrintedSquare, BlackSquareIsTheInnerPartByPayloadWidth) {
   const Corners printed = synth::square_tag_corners(60, 50, 50, 0.3);
-  const std::vector<Quad> quads{quad_of(printed)};
+  const std::vector<Quad> quads{fitted_quad(printed)};
   const std::vector<int> widths{6, 4, 6};  // a repeated width gives one quad
   const auto inner = black_squares_in_printed_squares(quads, {true}, widths);
   ASSERT_EQ(inner.size(), 2u);
@@ -37,7 +29,7 @@ TEST(PrintedSquare, BlackSquareIsTheInnerPartByPayloadWidth) {
   EXPECT_EQ(inner[0].observed_perimeter, 0.0);
   // Under perspective the inner square follows the homography, not a shrink about the centroid.
   const Corners slanted{Eigen::Vector2d(10, 10), Eigen::Vector2d(70, 14), Eigen::Vector2d(66, 50), Eigen::Vector2d(14, 40)};
-  const auto s = black_squares_in_printed_squares(std::vector<Quad>{quad_of(slanted)}, {true}, std::vector<int>{6});
+  const auto s = black_squares_in_printed_squares(std::vector<Quad>{fitted_quad(slanted)}, {true}, std::vector<int>{6});
   ASSERT_EQ(s.size(), 1u);
   const Eigen::Matrix3d H = *tag_homography(slanted);
   for (std::size_t k = 0; k < 4; ++k)
@@ -45,8 +37,8 @@ TEST(PrintedSquare, BlackSquareIsTheInnerPartByPayloadWidth) {
 }
 
 TEST(PrintedSquare, OnlyLookedAtQuadsAndBadInputRefused) {
-  const std::vector<Quad> quads{quad_of(synth::square_tag_corners(30, 30, 20, 0)),
-                                quad_of({Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(2, 2),
+  const std::vector<Quad> quads{fitted_quad(synth::square_tag_corners(30, 30, 20, 0)),
+                                fitted_quad({Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(2, 2),
                                          Eigen::Vector2d(3, 3)})};  // collinear: no homography
   EXPECT_TRUE(black_squares_in_printed_squares(quads, {false, true}, std::vector<int>{6}).empty());
   EXPECT_EQ(black_squares_in_printed_squares(quads, {true, true}, std::vector<int>{6}).size(), 1u);
