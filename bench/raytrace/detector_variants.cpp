@@ -145,6 +145,16 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "lowc") o.threshold_quads.low_contrast.enabled = x != 0;
     else if (k == "psq") o.printed_square.enabled = x != 0;
     else if (k == "rq") o.ring_quads.enabled = x != 0;
+    else if (k == "lq") o.line_quads.enabled = x != 0;
+    else if (k == "lq_max") o.line_quads.max_side_px = x;
+    else if (k == "ls_sigma") o.line_quads.segments.sigma = x;
+    else if (k == "ls_tau") o.line_quads.segments.angle_tolerance_deg = x;
+    else if (k == "ls_grad") o.line_quads.segments.min_gradient = x;
+    else if (k == "ls_dens") o.line_quads.segments.min_density = x;
+    else if (k == "ls_eps") o.line_quads.segments.log_eps = x;
+    else if (k == "ls_seed") o.line_quads.segments.min_seed_gradient = x;
+    else if (k == "ls_cap") o.line_quads.segments.max_region_pixels = static_cast<int>(x);
+    else if (k == "ls_cuts") o.line_quads.segments.max_cuts = static_cast<int>(x);
     else if (k == "rq_min") o.ring_quads.min_size_px = x;
     else if (k == "rq_max") o.ring_quads.max_size_px = x;
     else if (k == "rq_hole") o.ring_quads.min_hole = x;

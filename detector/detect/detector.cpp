@@ -16,6 +16,7 @@
 #include "detect/find_threshold_quads_in_image.hpp"
 #include "detect/photometric_refine.hpp"
 #include "detect/printed_square.hpp"
+#include "detect/line_quads.hpp"
 #include "detect/ring_quads.hpp"
 #include "detect/suppress_duplicates.hpp"
 #include "detect/workspace_impl.hpp"
@@ -229,6 +230,36 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     const std::vector<Quad> rings = ring_quads(tq.pass.groups, tq.pass.components, gray, opt_.threshold_quads.fit,
                                                  opt_.ring_quads, tq.fit);
     decode_printed(rings, std::vector<bool>(rings.size(), true));
+  }
+  if (opt_.line_quads.enabled && opt_.quad_finder == QuadFinderKind::kThreshold) {
+    // line_quads.hpp: quads of straight edges where no tag was found, each refined and read as the
+    // black square, then (those still uncovered) read as printed squares, their inner squares refined
+    // before reading: these outlines are placed by edges, not by the threshold's classes.
+    const auto covered = [&] {
+      std::vector<Corners> c;
+      for (const Detection& d : decoded) c.push_back(d.corners);
+      return c;
+    };
+    const auto refined = [&](const std::vector<Quad>& quads) {
+      std::vector<Quad> out;
+      for (const Quad& q : quads)
+        if (auto r = refine_quad_edges(gray, q.corners, opt_.threshold_quads.refine)) {
+          out.push_back(q);
+          out.back().corners = *r;
+        }
+      return out;
+    };
+    std::vector<Quad> lq = line_quads(gray, covered(), opt_.line_quads, workspace.impl().line_quads);
+    decode_more(refined(lq));
+    const std::vector<Corners> now = covered();
+    std::vector<bool> look(lq.size());
+    for (std::size_t i = 0; i < lq.size(); ++i) {
+      const Eigen::Vector2d c = (lq[i].corners[0] + lq[i].corners[1] + lq[i].corners[2] + lq[i].corners[3]) / 4;
+      look[i] = std::none_of(now.begin(), now.end(), [&](const Corners& k) { return inside_quad(k, c); });
+    }
+    std::vector<int> widths;
+    for (const TagFamily& f : families_) widths.push_back(f.payload_width());
+    decode_more(refined(black_squares_in_printed_squares(lq, look, widths)));
   }
   if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their likeliest code
     PayloadAreaOptions area = opt_.payload_area;

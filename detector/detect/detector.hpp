@@ -36,6 +36,7 @@
 #include "pose_choice.hpp"
 #include "printed_square.hpp"
 #include "ring_quads.hpp"
+#include "line_quads.hpp"
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
@@ -196,6 +197,11 @@ struct DetectorOptions {
   // as quads and read as printed squares (ring_quads.hpp; quad_finder kThreshold, full resolution
   // only; the tags found refined when printed_square.refine_edges). Default profile on; paper(): off.
   RingQuadOptions ring_quads{.enabled = true};
+  // Beyond the paper: quads of straight edges (line_segments.hpp, LSD's method) where no tag was
+  // found, read as black squares and as printed squares (line_quads.hpp; quad_finder kThreshold).
+  // Off in both profiles: on the realistic set it finds the most small tags of any step, but its
+  // edge pass costs about as much as the rest of the detector (docs/default-profile.md, session 22).
+  LineQuadOptions line_quads;
   // Beyond the paper: a quad whose reading no family decodes within its corrected bits is decoded
   // soft (soft_decode.hpp): the codeword likeliest under the cells' signed confidences, accepted only
   // by a likelihood-ratio rule calibrated to give no false detection of 36h11 on the corpus, and only

@@ -166,6 +166,7 @@ DetectorOptions DetectorOptions::paper() {
   o.group_look.enabled = false;
   o.printed_square.enabled = false;
   o.ring_quads.enabled = false;
+  o.line_quads.enabled = false;
   o.soft_decode.enabled = false;
   o.threshold_quads.low_contrast.enabled = false;
   return o;
@@ -256,6 +257,17 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_above("ring_quads.max_size_px", ring_quads.max_size_px, 0);
   finite_above("ring_quads.max_fill", ring_quads.max_fill, 0);
   finite_at_least("ring_quads.min_hole", ring_quads.min_hole, 0);
+  finite_above("line_quads.max_side_px", line_quads.max_side_px, 0);
+  finite_at_least("line_quads.min_side_px", line_quads.min_side_px, 0);
+  finite_at_least("line_quads.segments.sigma", line_quads.segments.sigma, 0);
+  finite_above("line_quads.segments.angle_tolerance_deg", line_quads.segments.angle_tolerance_deg, 0);
+  finite_at_least("line_quads.segments.min_gradient", line_quads.segments.min_gradient, 0);
+  finite_at_least("line_quads.segments.min_seed_gradient", line_quads.segments.min_seed_gradient, 0);
+  finite_at_least("line_quads.segments.min_density", line_quads.segments.min_density, 0);
+  finite_at_least("line_quads.segments.log_eps", line_quads.segments.log_eps, -1e9);
+  finite_at_least("line_quads.segments.min_length_px", line_quads.segments.min_length_px, 0);
+  finite_at_least("line_quads.segments.max_region_pixels", line_quads.segments.max_region_pixels, 0);
+  finite_at_least("line_quads.segments.max_cuts", line_quads.segments.max_cuts, 0);
   finite_at_least("photometric_guard.max_kink_px", photometric_guard.max_kink_px, 0);
   finite_at_least("photometric_guard.max_blur_px", photometric_guard.max_blur_px, 0);
   finite_at_least("photometric_guard.min_kink_significance", photometric_guard.min_kink_significance, 0);

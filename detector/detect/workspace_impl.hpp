@@ -7,6 +7,7 @@
 #include "detect/detector.hpp"
 #include "detect/gradient.hpp"
 #include "detect/image.hpp"
+#include "detect/line_quads.hpp"
 #include "detect/segmentation.hpp"
 #include "detect/threshold_quads.hpp"
 
@@ -21,6 +22,7 @@ struct DetectorWorkspace::Impl {
   SegmentationScratch seg;
   Clusters clusters;
   ThresholdQuadWorkspace threshold_quads;  // the threshold quad finder's buffers (default profile)
+  LineQuadScratch line_quads;              // the line quads' (line_quads.hpp; off in both profiles)
   PhotometricWorkspace photometric;        // the photometric refinement's (default profile; per tag, not per pixel)
 };
 

@@ -1,0 +1,59 @@
+#pragma once
+// Beyond the paper: straight edges found the way LSD finds them (R. Grompone von Gioi, J. Jakubowicz,
+// J.-M. Morel, G. Randall, "LSD: a Line Segment Detector", IPOL 2012), written from the paper:
+//   1. the image blurred (sigma), gradients by the 2x2 mask (at pixel corners, x + 0.5, y + 0.5);
+//      pixels whose gradient is under `min_gradient` take no part;
+//   2. pixels taken in decreasing gradient order as seeds; a region grows over 8-connected pixels
+//      whose gradient direction is within `angle_tolerance_deg` of the region's mean direction (so an
+//      edge's polarity is kept: dark-to-light and light-to-dark never join);
+//   3. the region's rectangle: centroid and principal axis of its pixels (weighted by gradient),
+//      length and width from their extent;
+//   4. kept when its pixels fill at least `min_density` of the rectangle and it is meaningful in LSD's
+//      a-contrario sense: NFA = (W H)^(5/2) 11 B(n, k, p) < 10^-log_eps_neg, with n pixels in the
+//      rectangle, k of them aligned (the region's) and p = tolerance / 180 degrees.
+// It differs from the paper's gradient clustering (segmentation.hpp) in growing from the strongest
+// pixels with a fixed angle tolerance instead of merging by the clusters' spread (K_D, K_M), which
+// keeps the 8-25 px sides of small, blurred, noisy tags whole (the default profile's line quads,
+// line_quads.hpp). Segments follow line_fit.hpp's convention: dark side on the left walking p0 -> p1.
+// Coordinates: pixel centres at integer coordinates.
+#include <cstdint>
+#include <vector>
+
+#include "image.hpp"
+#include "line_fit.hpp"
+
+namespace tagbench {
+
+struct LineSegmentOptions {
+  double sigma = 0.75;                // Gaussian blur before the gradient, px (LSD: 0.6 / its 0.8 scale)
+  double angle_tolerance_deg = 22.5;  // LSD's tau
+  // Gradient magnitude floor, grey levels (of 255) per pixel: LSD's q / sin(tau) with q = 2.
+  double min_gradient = 3.0;
+  double min_density = 0.5;
+  // Regions grow only from pixels at least this strong (grey levels per pixel), down to min_gradient:
+  // weak texture then seeds no region of its own (most of the time went to such regions).
+  double min_seed_gradient = 0;
+  double log_eps = 0.0;       // -log10 of the accepted NFA (LSD: 0, one false segment per image)
+  double min_length_px = 4.0;  // shorter segments are not reported
+  // A region growing past this many pixels is dropped whole (its pixels stay used): the edges this is
+  // for are a small tag's sides, and long edges and textures are where the time would go. 0: no cap.
+  int max_region_pixels = 0;
+  int max_cuts = 8;  // LSD's radius cuts of a region not dense enough, at most this many
+};
+
+// Buffers kept from one image to the next (storage only grows).
+struct LineSegmentScratch {
+  ImageF blurred, tmp;
+  std::vector<float> ux, uy, mag;  // unit gradient and magnitude per pixel corner
+  std::vector<std::uint8_t> used;
+  std::vector<std::uint32_t> order, bin_count;
+  struct RegionPixel {
+    std::int32_t x, y;  // on the gradient grid
+    std::uint32_t i;    // y * (width - 1) + x
+  };
+  std::vector<RegionPixel> region;
+};
+
+std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOptions& opt, LineSegmentScratch& scratch);
+
+}  // namespace tagbench

@@ -1,0 +1,101 @@
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "codes/families.hpp"
+#include "codes/tag_layout.hpp"
+#include "detect/blur.hpp"
+#include "detect/detector.hpp"
+#include "detect/line_quads.hpp"
+#include "synthetic_tag.hpp"
+
+namespace test_line_quads {
+
+using namespace tagbench;
+
+namespace {
+
+// A filled quad (4 x 4 samples a pixel) on a plain ground, blurred by 0.8 px.
+ImageF square_image(int size, const Corners& c, float outside, float inside) {
+  ImageF img(size, size, outside);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      int hits = 0;
+      for (int sy = 0; sy < 4; ++sy)
+        for (int sx = 0; sx < 4; ++sx) hits += inside_quad(c, {x - 0.375 + 0.25 * sx, y - 0.375 + 0.25 * sy});
+      img.at(x, y) = outside + (inside - outside) * static_cast<float>(hits) / 16.0f;
+    }
+  return gaussian_blur(img, 0.8);
+}
+
+// The smallest worst-corner distance between `want` and any found quad (any starting corner).
+double best_match(const std::vector<Quad>& quads, const Corners& want) {
+  double best = 1e9;
+  for (const Quad& q : quads)
+    for (int r = 0; r < 4; ++r) {
+      double worst = 0;
+      for (int i = 0; i < 4; ++i) worst = std::max(worst, (q.corners[(i + r) % 4] - want[i]).norm());
+      best = std::min(best, worst);
+    }
+  return best;
+}
+
+LineQuadOptions on(double max_side_px = 64) {
+  LineQuadOptions o;
+  o.enabled = true;
+  o.max_side_px = max_side_px;
+  return o;
+}
+
+}  // namespace
+
+// A small dark square and a small light one each give a quad on their outline, clockwise on screen
+// like every quad, and observed_perimeter 0.
+TEST(LineQuads, DarkAndLightSquaresGiveTheirOutline) {
+  LineQuadScratch s;
+  for (const bool dark : {true, false}) {
+    const Corners c = synth::square_tag_corners(40, 40, 22, 0.4);
+    const ImageF img = square_image(80, c, dark ? 0.8f : 0.2f, dark ? 0.2f : 0.75f);
+    const auto quads = line_quads(img, {}, on(), s);
+    EXPECT_LT(best_match(quads, c), 1.0) << (dark ? "dark" : "light");
+    for (const Quad& q : quads) EXPECT_EQ(q.observed_perimeter, 0);
+  }
+}
+
+// Quads centred inside a found tag, and quads with a side over max_side_px, are not returned.
+TEST(LineQuads, SkipsCoveredAndLargeQuads) {
+  LineQuadScratch s;
+  const Corners c = synth::square_tag_corners(40, 40, 22, 0.4);
+  const ImageF img = square_image(80, c, 0.8f, 0.2f);
+  const std::vector<Corners> covered{synth::square_tag_corners(40, 40, 30, 0)};
+  EXPECT_GT(best_match(line_quads(img, covered, on(), s), c), 5.0);
+  EXPECT_GT(best_match(line_quads(img, {}, on(20), s), c), 5.0);
+  EXPECT_LT(best_match(line_quads(img, {}, on(24), s), c), 1.0);
+}
+
+// The detector option: off in both profiles, validated like every other.
+TEST(LineQuads, OffInBothProfilesAndValidated) {
+  EXPECT_FALSE(DetectorOptions{}.line_quads.enabled);
+  EXPECT_FALSE(DetectorOptions::paper().line_quads.enabled);
+  DetectorOptions o;
+  o.line_quads.max_side_px = 0;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+  o = DetectorOptions{};
+  o.line_quads.segments.min_density = -1;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
+// With the option on, a detector still finds a plain tag once (no duplicate from the line quads).
+TEST(LineQuads, DetectorWithLineQuadsReportsAPlainTagOnce) {
+  DetectorOptions o;
+  o.line_quads.enabled = true;
+  const Detector det(o);
+  const Corners c = synth::square_tag_corners(60, 60, 40, 0.3);
+  const TagFamily fam = load_family("36h11");
+  const ImageF img = synth::render_tag(120, 120, tag_cells(fam, 7), synth::homography_for(c));
+  const auto found = det.detect(img);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].id, 7);
+}
+
+}  // namespace test_line_quads

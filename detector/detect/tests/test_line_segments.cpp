@@ -1,0 +1,114 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "detect/blur.hpp"
+#include "detect/homography.hpp"
+#include "detect/line_segments.hpp"
+#include "synthetic_tag.hpp"
+
+namespace test_line_segments {
+
+using namespace tagbench;
+
+namespace {
+
+// The quad `c` filled with `inside` on `outside`, each pixel the mean of 4 x 4 samples, then blurred
+// by 0.8 px like a camera's optics.
+ImageF square_image(int size, const Corners& c, float outside, float inside) {
+  ImageF img(size, size, outside);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      int hits = 0;
+      for (int sy = 0; sy < 4; ++sy)
+        for (int sx = 0; sx < 4; ++sx) hits += inside_quad(c, {x - 0.375 + 0.25 * sx, y - 0.375 + 0.25 * sy});
+      img.at(x, y) = outside + (inside - outside) * static_cast<float>(hits) / 16.0f;
+    }
+  return gaussian_blur(img, 0.8);
+}
+
+double distance_to_line(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d d = (b - a).normalized();
+  return std::abs(d.x() * (p - a).y() - d.y() * (p - a).x());
+}
+
+// The segment lying along side a -> b (either way) with its length and whether it runs a -> b.
+struct Match {
+  bool found = false, forward = false;
+  double length = 0;
+};
+Match along(const std::vector<Segment>& segs, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  Match m;
+  for (const Segment& s : segs) {
+    if (distance_to_line(s.p0, a, b) > 1.0 || distance_to_line(s.p1, a, b) > 1.0) continue;
+    const Eigen::Vector2d mid = (s.p0 + s.p1) / 2;
+    if ((mid - (a + b) / 2).norm() > (b - a).norm() / 2) continue;
+    if (s.length > m.length) m = {true, (s.p1 - s.p0).dot(b - a) > 0, s.length};
+  }
+  return m;
+}
+
+}  // namespace
+
+// Each side of a small turned dark square is one segment, dark on its left: around a dark square the
+// segments run counter-clockwise on screen, i.e. against the corners' clockwise order.
+TEST(LineSegments, FindsEachSideOfASmallSquareDarkOnTheLeft) {
+  const Corners c = synth::square_tag_corners(40, 40, 22, 0.5);
+  const ImageF img = square_image(80, c, 0.8f, 0.2f);
+  LineSegmentScratch s;
+  const auto segs = detect_line_segments(img, LineSegmentOptions{}, s);
+  for (int i = 0; i < 4; ++i) {
+    const Match m = along(segs, c[i], c[(i + 1) % 4]);
+    ASSERT_TRUE(m.found) << "side " << i;
+    EXPECT_FALSE(m.forward) << "side " << i;
+    EXPECT_GT(m.length, 0.6 * 22) << "side " << i;
+  }
+}
+
+// A light square: the same sides, the other way round.
+TEST(LineSegments, LightSquareRunsTheOtherWay) {
+  const Corners c = synth::square_tag_corners(40, 40, 22, 0.3);
+  const ImageF img = square_image(80, c, 0.25f, 0.7f);
+  LineSegmentScratch s;
+  const auto segs = detect_line_segments(img, LineSegmentOptions{}, s);
+  for (int i = 0; i < 4; ++i) {
+    const Match m = along(segs, c[i], c[(i + 1) % 4]);
+    ASSERT_TRUE(m.found) << "side " << i;
+    EXPECT_TRUE(m.forward) << "side " << i;
+  }
+}
+
+// LSD's a-contrario test: a flat image has no segment, and seeded noise (sigma 8 grey levels) next
+// to none, where a low-contrast edge of 20 grey levels is still found.
+TEST(LineSegments, NoSegmentsInFlatOrNoisyImagesButAFaintEdge) {
+  LineSegmentScratch s;
+  EXPECT_TRUE(detect_line_segments(ImageF(60, 60, 0.5f), LineSegmentOptions{}, s).empty());
+  ImageF noise(200, 200);
+  std::mt19937 rng(17);
+  std::normal_distribution<float> n(0.5f, 8.0f / 255);
+  for (auto& v : noise.data) v = n(rng);
+  EXPECT_LE(detect_line_segments(noise, LineSegmentOptions{}, s).size(), 2u);
+  const Corners c = synth::square_tag_corners(40, 40, 24, 0.2);
+  const ImageF faint = square_image(80, c, 0.55f, 0.55f - 20.0f / 255);
+  const auto segs = detect_line_segments(faint, LineSegmentOptions{}, s);
+  int sides = 0;
+  for (int i = 0; i < 4; ++i) sides += along(segs, c[i], c[(i + 1) % 4]).found;
+  EXPECT_EQ(sides, 4);
+}
+
+// The scratch is reused: a second image gives the same segments as a fresh scratch does.
+TEST(LineSegments, ReusedScratchGivesTheSameSegments) {
+  const ImageF a = square_image(80, synth::square_tag_corners(40, 40, 22, 0.5), 0.8f, 0.2f);
+  const ImageF b = square_image(64, synth::square_tag_corners(30, 34, 18, 1.1), 0.3f, 0.9f);
+  LineSegmentScratch warm, fresh;
+  detect_line_segments(a, LineSegmentOptions{}, warm);
+  const auto x = detect_line_segments(b, LineSegmentOptions{}, warm), y = detect_line_segments(b, LineSegmentOptions{}, fresh);
+  ASSERT_EQ(x.size(), y.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    EXPECT_EQ(x[i].p0, y[i].p0);
+    EXPECT_EQ(x[i].p1, y[i].p1);
+  }
+}
+
+}  // namespace test_line_segments
