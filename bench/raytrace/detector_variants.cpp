@@ -147,6 +147,9 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "rq") o.ring_quads.enabled = x != 0;
     else if (k == "lq") o.line_quads.enabled = x != 0;
     else if (k == "lq_max") o.line_quads.max_side_px = x;
+    else if (k == "lq_rb") o.line_quads.refine_black = x != 0;
+    else if (k == "lq_spare") o.line_quads.spare_bits = static_cast<int>(x);
+    else if (k == "lq_ri") o.line_quads.refine_inner = x != 0;
     else if (k == "ls_sigma") o.line_quads.segments.sigma = x;
     else if (k == "ls_tau") o.line_quads.segments.angle_tolerance_deg = x;
     else if (k == "ls_grad") o.line_quads.segments.min_gradient = x;

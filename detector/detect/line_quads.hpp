@@ -23,6 +23,15 @@ struct LineQuadOptions {
   bool enabled = false;      // both profiles off (see above)
   double max_side_px = 64;   // quads with a longer side are not kept: larger tags have their outline
   double min_side_px = 8;    // every side and diagonal at least this (QuadSearchOptions::min_tag_size)
+  // Each quad edge-refined before it is read as the black square; else (default) only the tags it
+  // gives, after reading: refined first, a steep tag's far side moved to another edge read 2 bits off
+  // as a tag 3-5 px from its place (realistic seed 1, frame 106).
+  bool refine_black = false;
+  bool refine_inner = true;  // each printed square's inner square refined before it is read
+  // A tag read from these quads is at most (bits its family corrects - spare_bits) off its code: some
+  // 380 such quads a realistic frame are read, and with 1 spare bit a 36h11 false detection 2 bits off
+  // came from one on the corpus.
+  int spare_bits = 2;
   LineSegmentOptions segments;
 };
 
