@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "codes/tag_layout.hpp"
+#include "detect/blur.hpp"
 #include "detect/homography.hpp"
 #include "detect/image.hpp"
 
@@ -73,6 +74,20 @@ inline Corners perturbed(const Corners& c, double amount, std::uint32_t seed) {
   Corners p = c;
   for (auto& q : p) q += Eigen::Vector2d(u(rng), u(rng));
   return p;
+}
+
+// The convex quad `c` filled with `inside` on `outside` (size x size px), each pixel the mean of
+// 4 x 4 samples, then blurred by 0.8 px like a camera's optics.
+inline ImageF filled_quad_image(int size, const Corners& c, float outside, float inside) {
+  ImageF img(size, size, outside);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      int hits = 0;
+      for (int sy = 0; sy < 4; ++sy)
+        for (int sx = 0; sx < 4; ++sx) hits += inside_quad(c, {x - 0.375 + 0.25 * sx, y - 0.375 + 0.25 * sy});
+      img.at(x, y) = outside + (inside - outside) * static_cast<float>(hits) / 16.0f;
+    }
+  return gaussian_blur(img, 0.8);
 }
 
 }  // namespace tagbench::synth

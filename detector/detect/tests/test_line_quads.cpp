@@ -15,19 +15,6 @@ using namespace tagbench;
 
 namespace {
 
-// A filled quad (4 x 4 samples a pixel) on a plain ground, blurred by 0.8 px.
-ImageF square_image(int size, const Corners& c, float outside, float inside) {
-  ImageF img(size, size, outside);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      int hits = 0;
-      for (int sy = 0; sy < 4; ++sy)
-        for (int sx = 0; sx < 4; ++sx) hits += inside_quad(c, {x - 0.375 + 0.25 * sx, y - 0.375 + 0.25 * sy});
-      img.at(x, y) = outside + (inside - outside) * static_cast<float>(hits) / 16.0f;
-    }
-  return gaussian_blur(img, 0.8);
-}
-
 // The smallest worst-corner distance between `want` and any found quad (any starting corner).
 double best_match(const std::vector<Quad>& quads, const Corners& want) {
   double best = 1e9;
@@ -55,7 +42,7 @@ TEST(LineQuads, DarkAndLightSquaresGiveTheirOutline) {
   LineQuadScratch s;
   for (const bool dark : {true, false}) {
     const Corners c = synth::square_tag_corners(40, 40, 22, 0.4);
-    const ImageF img = square_image(80, c, dark ? 0.8f : 0.2f, dark ? 0.2f : 0.75f);
+    const ImageF img = synth::filled_quad_image(80, c, dark ? 0.8f : 0.2f, dark ? 0.2f : 0.75f);
     const auto quads = line_quads(img, {}, on(), s);
     EXPECT_LT(best_match(quads, c), 1.0) << (dark ? "dark" : "light");
     for (const Quad& q : quads) EXPECT_EQ(q.observed_perimeter, 0);
@@ -66,7 +53,7 @@ TEST(LineQuads, DarkAndLightSquaresGiveTheirOutline) {
 TEST(LineQuads, SkipsCoveredAndLargeQuads) {
   LineQuadScratch s;
   const Corners c = synth::square_tag_corners(40, 40, 22, 0.4);
-  const ImageF img = square_image(80, c, 0.8f, 0.2f);
+  const ImageF img = synth::filled_quad_image(80, c, 0.8f, 0.2f);
   const std::vector<Corners> covered{synth::square_tag_corners(40, 40, 30, 0)};
   EXPECT_GT(best_match(line_quads(img, covered, on(), s), c), 5.0);
   EXPECT_GT(best_match(line_quads(img, {}, on(20), s), c), 5.0);

@@ -14,20 +14,6 @@ using namespace tagbench;
 
 namespace {
 
-// The quad `c` filled with `inside` on `outside`, each pixel the mean of 4 x 4 samples, then blurred
-// by 0.8 px like a camera's optics.
-ImageF square_image(int size, const Corners& c, float outside, float inside) {
-  ImageF img(size, size, outside);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      int hits = 0;
-      for (int sy = 0; sy < 4; ++sy)
-        for (int sx = 0; sx < 4; ++sx) hits += inside_quad(c, {x - 0.375 + 0.25 * sx, y - 0.375 + 0.25 * sy});
-      img.at(x, y) = outside + (inside - outside) * static_cast<float>(hits) / 16.0f;
-    }
-  return gaussian_blur(img, 0.8);
-}
-
 double distance_to_line(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const Eigen::Vector2d d = (b - a).normalized();
   return std::abs(d.x() * (p - a).y() - d.y() * (p - a).x());
@@ -55,7 +41,7 @@ Match along(const std::vector<Segment>& segs, const Eigen::Vector2d& a, const Ei
 // segments run counter-clockwise on screen, i.e. against the corners' clockwise order.
 TEST(LineSegments, FindsEachSideOfASmallSquareDarkOnTheLeft) {
   const Corners c = synth::square_tag_corners(40, 40, 22, 0.5);
-  const ImageF img = square_image(80, c, 0.8f, 0.2f);
+  const ImageF img = synth::filled_quad_image(80, c, 0.8f, 0.2f);
   LineSegmentScratch s;
   const auto segs = detect_line_segments(img, LineSegmentOptions{}, s);
   for (int i = 0; i < 4; ++i) {
@@ -69,7 +55,7 @@ TEST(LineSegments, FindsEachSideOfASmallSquareDarkOnTheLeft) {
 // A light square: the same sides, the other way round.
 TEST(LineSegments, LightSquareRunsTheOtherWay) {
   const Corners c = synth::square_tag_corners(40, 40, 22, 0.3);
-  const ImageF img = square_image(80, c, 0.25f, 0.7f);
+  const ImageF img = synth::filled_quad_image(80, c, 0.25f, 0.7f);
   LineSegmentScratch s;
   const auto segs = detect_line_segments(img, LineSegmentOptions{}, s);
   for (int i = 0; i < 4; ++i) {
@@ -90,7 +76,7 @@ TEST(LineSegments, NoSegmentsInFlatOrNoisyImagesButAFaintEdge) {
   for (auto& v : noise.data) v = n(rng);
   EXPECT_LE(detect_line_segments(noise, LineSegmentOptions{}, s).size(), 2u);
   const Corners c = synth::square_tag_corners(40, 40, 24, 0.2);
-  const ImageF faint = square_image(80, c, 0.55f, 0.55f - 20.0f / 255);
+  const ImageF faint = synth::filled_quad_image(80, c, 0.55f, 0.55f - 20.0f / 255);
   const auto segs = detect_line_segments(faint, LineSegmentOptions{}, s);
   int sides = 0;
   for (int i = 0; i < 4; ++i) sides += along(segs, c[i], c[(i + 1) % 4]).found;
@@ -99,8 +85,8 @@ TEST(LineSegments, NoSegmentsInFlatOrNoisyImagesButAFaintEdge) {
 
 // The scratch is reused: a second image gives the same segments as a fresh scratch does.
 TEST(LineSegments, ReusedScratchGivesTheSameSegments) {
-  const ImageF a = square_image(80, synth::square_tag_corners(40, 40, 22, 0.5), 0.8f, 0.2f);
-  const ImageF b = square_image(64, synth::square_tag_corners(30, 34, 18, 1.1), 0.3f, 0.9f);
+  const ImageF a = synth::filled_quad_image(80, synth::square_tag_corners(40, 40, 22, 0.5), 0.8f, 0.2f);
+  const ImageF b = synth::filled_quad_image(64, synth::square_tag_corners(30, 34, 18, 1.1), 0.3f, 0.9f);
   LineSegmentScratch warm, fresh;
   detect_line_segments(a, LineSegmentOptions{}, warm);
   const auto x = detect_line_segments(b, LineSegmentOptions{}, warm), y = detect_line_segments(b, LineSegmentOptions{}, fresh);
