@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "detect/blur.hpp"
 
@@ -28,6 +29,8 @@ double log10_binomial_tail(int n, int k, double p) {
 }  // namespace
 
 std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOptions& opt, LineSegmentScratch& s) {
+  if (!(opt.min_gradient > 0) || !(opt.angle_tolerance_deg > 0 && opt.angle_tolerance_deg <= 90))
+    throw std::invalid_argument("LineSegmentOptions: min_gradient must be > 0 and angle_tolerance_deg in (0, 90]");
   std::vector<Segment> out;
   if (img.width < 3 || img.height < 3) return out;
   gaussian_blur(img, opt.sigma, s.tmp, s.blurred);

@@ -9,7 +9,7 @@
 //   3. the region's rectangle: centroid and principal axis of its pixels (weighted by gradient),
 //      length and width from their extent;
 //   4. kept when its pixels fill at least `min_density` of the rectangle and it is meaningful in LSD's
-//      a-contrario sense: NFA = (W H)^(5/2) 11 B(n, k, p) < 10^-log_eps_neg, with n pixels in the
+//      a-contrario sense: NFA = (W H)^(5/2) 11 B(n, k, p) < 10^-log_eps, with n pixels in the
 //      rectangle, k of them aligned (the region's) and p = tolerance / 180 degrees.
 // It differs from the paper's gradient clustering (segmentation.hpp) in growing from the strongest
 // pixels with a fixed angle tolerance instead of merging by the clusters' spread (K_D, K_M), which
@@ -26,9 +26,9 @@ namespace tagbench {
 
 struct LineSegmentOptions {
   double sigma = 0.75;                // Gaussian blur before the gradient, px (LSD: 0.6 / its 0.8 scale)
-  double angle_tolerance_deg = 22.5;  // LSD's tau
+  double angle_tolerance_deg = 22.5;  // LSD's tau, in (0, 90]
   // Gradient magnitude floor, grey levels (of 255) per pixel: LSD's q / sin(tau) with q = 2.
-  double min_gradient = 3.0;
+  double min_gradient = 3.0;  // > 0
   double min_density = 0.5;
   // Regions grow only from pixels at least this strong (grey levels per pixel), down to min_gradient:
   // weak texture then seeds no region of its own (most of the time went to such regions).
@@ -54,6 +54,7 @@ struct LineSegmentScratch {
   std::vector<RegionPixel> region;
 };
 
+// Throws std::invalid_argument when min_gradient <= 0 or angle_tolerance_deg is not in (0, 90].
 std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOptions& opt, LineSegmentScratch& scratch);
 
 }  // namespace tagbench

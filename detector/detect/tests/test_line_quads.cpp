@@ -70,6 +70,12 @@ TEST(LineQuads, OffInBothProfilesAndValidated) {
   o = DetectorOptions{};
   o.line_quads.segments.min_density = -1;
   EXPECT_THROW(o.validate(), std::invalid_argument);
+  o = DetectorOptions{};
+  o.line_quads.segments.angle_tolerance_deg = 120;  // p = tau / 180 must stay under 1/2 for LSD's test
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+  o = DetectorOptions{};
+  o.line_quads.segments.min_gradient = 0;  // the unit gradient would divide by a zero magnitude
+  EXPECT_THROW(o.validate(), std::invalid_argument);
 }
 
 // With the option on, a detector still finds a plain tag once (no duplicate from the line quads).

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "detect/blur.hpp"
 #include "detect/homography.hpp"
@@ -95,6 +96,17 @@ TEST(LineSegments, ReusedScratchGivesTheSameSegments) {
     EXPECT_EQ(x[i].p0, y[i].p0);
     EXPECT_EQ(x[i].p1, y[i].p1);
   }
+}
+
+// Options that would divide by a zero gradient or break LSD's test are refused.
+TEST(LineSegments, BadOptionsRefused) {
+  LineSegmentScratch s;
+  LineSegmentOptions o;
+  o.min_gradient = 0;
+  EXPECT_THROW(detect_line_segments(ImageF(20, 20, 0.5f), o, s), std::invalid_argument);
+  o = LineSegmentOptions{};
+  o.angle_tolerance_deg = 95;
+  EXPECT_THROW(detect_line_segments(ImageF(20, 20, 0.5f), o, s), std::invalid_argument);
 }
 
 }  // namespace test_line_segments
