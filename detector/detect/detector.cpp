@@ -202,14 +202,17 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   // inner squares are placed only as well as the outer quad was, so the few that decode are refined
   // on the full-resolution image like every threshold quad (after decoding: refining every candidate
   // first cost 6-10 % more time).
+  std::vector<int> widths;  // the families' payload widths, for reading printed squares
+  for (const TagFamily& f : families_) widths.push_back(f.payload_width());
+  // The detections from decoded[first_new] on, edge-refined on the full-resolution image.
+  const auto refine_since = [&](std::size_t first_new) {
+    for (std::size_t i = first_new; i < decoded.size(); ++i)
+      move_detection_to(decoded[i], refine_quad_edges(gray, decoded[i].corners, opt_.threshold_quads.refine));
+  };
   const auto decode_printed = [&](const std::vector<Quad>& quads, const std::vector<bool>& look) {
-    std::vector<int> widths;
-    for (const TagFamily& f : families_) widths.push_back(f.payload_width());
     const std::size_t first_new = decoded.size();
     decode_more(black_squares_in_printed_squares(quads, look, widths));
-    if (opt_.printed_square.refine_edges)
-      for (std::size_t i = first_new; i < decoded.size(); ++i)
-        move_detection_to(decoded[i], refine_quad_edges(gray, decoded[i].corners, opt_.threshold_quads.refine));
+    if (opt_.printed_square.refine_edges) refine_since(first_new);
   };
   if (printed_square) {
     // The first pass's quads and the second look's, each looked at when it was read but not decoded:
@@ -232,9 +235,9 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     decode_printed(rings, std::vector<bool>(rings.size(), true));
   }
   if (opt_.line_quads.enabled && opt_.quad_finder == QuadFinderKind::kThreshold) {
-    // line_quads.hpp: quads of straight edges where no tag was found, each refined and read as the
-    // black square, then (those still uncovered) read as printed squares, their inner squares refined
-    // before reading: these outlines are placed by edges, not by the threshold's classes.
+    // line_quads.hpp: quads of straight edges where no tag was found, each read as the black square,
+    // then (those still uncovered) as printed squares; each refined before reading or, when its
+    // refine_black / refine_inner option is off, only the tags it gives, after reading.
     const auto covered = [&] {
       std::vector<Corners> c;
       for (const Detection& d : decoded) c.push_back(d.corners);
@@ -249,7 +252,6 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
         }
       return out;
     };
-    // Refined before reading (refine_before_decode) or, cheaper, only the tags read (as printed squares).
     const auto read = [&](const std::vector<Quad>& quads, bool refine_first) {
       const std::size_t first_new = decoded.size();
       decode_more(refine_first ? refined(quads) : quads);
@@ -265,20 +267,13 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       };
       decoded.erase(std::remove_if(decoded.begin() + static_cast<std::ptrdiff_t>(first_new), decoded.end(), too_far),
                     decoded.end());
-      if (!refine_first)
-        for (std::size_t i = first_new; i < decoded.size(); ++i)
-          move_detection_to(decoded[i], refine_quad_edges(gray, decoded[i].corners, opt_.threshold_quads.refine));
+      if (!refine_first) refine_since(first_new);
     };
     std::vector<Quad> lq = line_quads(gray, covered(), opt_.line_quads, workspace.impl().line_quads);
     read(lq, opt_.line_quads.refine_black);
     const std::vector<Corners> now = covered();
     std::vector<bool> look(lq.size());
-    for (std::size_t i = 0; i < lq.size(); ++i) {
-      const Eigen::Vector2d c = (lq[i].corners[0] + lq[i].corners[1] + lq[i].corners[2] + lq[i].corners[3]) / 4;
-      look[i] = std::none_of(now.begin(), now.end(), [&](const Corners& k) { return inside_quad(k, c); });
-    }
-    std::vector<int> widths;
-    for (const TagFamily& f : families_) widths.push_back(f.payload_width());
+    for (std::size_t i = 0; i < lq.size(); ++i) look[i] = !centre_covered(lq[i], now);
     read(black_squares_in_printed_squares(lq, look, widths), opt_.line_quads.refine_inner);
   }
   if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their likeliest code

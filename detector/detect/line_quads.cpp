@@ -5,6 +5,11 @@
 
 namespace tagbench {
 
+bool centre_covered(const Quad& q, std::span<const Corners> covered) {
+  const Eigen::Vector2d centre = (q.corners[0] + q.corners[1] + q.corners[2] + q.corners[3]) / 4;
+  return std::any_of(covered.begin(), covered.end(), [&](const Corners& c) { return inside_quad(c, centre); });
+}
+
 std::vector<Quad> line_quads(const ImageF& img, std::span<const Corners> covered, const LineQuadOptions& opt,
                              LineQuadScratch& scratch) {
   std::vector<Segment>& segs = scratch.both_ways;
@@ -23,8 +28,7 @@ std::vector<Quad> line_quads(const ImageF& img, std::span<const Corners> covered
   std::erase_if(quads, [&](const Quad& q) {
     for (int i = 0; i < 4; ++i)
       if ((q.corners[i] - q.corners[(i + 1) % 4]).norm() > opt.max_side_px) return true;
-    const Eigen::Vector2d centre = (q.corners[0] + q.corners[1] + q.corners[2] + q.corners[3]) / 4;
-    return std::any_of(covered.begin(), covered.end(), [&](const Corners& c) { return inside_quad(c, centre); });
+    return centre_covered(q, covered);
   });
   for (auto& q : quads) q.observed_perimeter = 0;
   return quads;

@@ -46,4 +46,7 @@ struct LineQuadScratch {
 std::vector<Quad> line_quads(const ImageF& img, std::span<const Corners> covered, const LineQuadOptions& opt,
                              LineQuadScratch& scratch);
 
+// Whether q's centre (its corners' mean) lies inside any of `covered` (any winding).
+bool centre_covered(const Quad& q, std::span<const Corners> covered);
+
 }  // namespace tagbench

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -36,33 +37,35 @@ Match along(const std::vector<Segment>& segs, const Eigen::Vector2d& a, const Ei
   return m;
 }
 
+// The segment along each side of a 22 px square turned by phi, `inside` on `outside`.
+std::array<Match, 4> side_matches(double phi, float outside, float inside) {
+  const Corners c = synth::square_tag_corners(40, 40, 22, phi);
+  LineSegmentScratch s;
+  const auto segs = detect_line_segments(synth::filled_quad_image(80, c, outside, inside), LineSegmentOptions{}, s);
+  std::array<Match, 4> m;
+  for (int i = 0; i < 4; ++i) m[i] = along(segs, c[i], c[(i + 1) % 4]);
+  return m;
+}
+
 }  // namespace
 
 // Each side of a small turned dark square is one segment, dark on its left: around a dark square the
 // segments run counter-clockwise on screen, i.e. against the corners' clockwise order.
 TEST(LineSegments, FindsEachSideOfASmallSquareDarkOnTheLeft) {
-  const Corners c = synth::square_tag_corners(40, 40, 22, 0.5);
-  const ImageF img = synth::filled_quad_image(80, c, 0.8f, 0.2f);
-  LineSegmentScratch s;
-  const auto segs = detect_line_segments(img, LineSegmentOptions{}, s);
+  const auto m = side_matches(0.5, 0.8f, 0.2f);
   for (int i = 0; i < 4; ++i) {
-    const Match m = along(segs, c[i], c[(i + 1) % 4]);
-    ASSERT_TRUE(m.found) << "side " << i;
-    EXPECT_FALSE(m.forward) << "side " << i;
-    EXPECT_GT(m.length, 0.6 * 22) << "side " << i;
+    ASSERT_TRUE(m[i].found) << "side " << i;
+    EXPECT_FALSE(m[i].forward) << "side " << i;
+    EXPECT_GT(m[i].length, 0.6 * 22) << "side " << i;
   }
 }
 
 // A light square: the same sides, the other way round.
 TEST(LineSegments, LightSquareRunsTheOtherWay) {
-  const Corners c = synth::square_tag_corners(40, 40, 22, 0.3);
-  const ImageF img = synth::filled_quad_image(80, c, 0.25f, 0.7f);
-  LineSegmentScratch s;
-  const auto segs = detect_line_segments(img, LineSegmentOptions{}, s);
+  const auto m = side_matches(0.3, 0.25f, 0.7f);
   for (int i = 0; i < 4; ++i) {
-    const Match m = along(segs, c[i], c[(i + 1) % 4]);
-    ASSERT_TRUE(m.found) << "side " << i;
-    EXPECT_TRUE(m.forward) << "side " << i;
+    ASSERT_TRUE(m[i].found) << "side " << i;
+    EXPECT_TRUE(m[i].forward) << "side " << i;
   }
 }
 
