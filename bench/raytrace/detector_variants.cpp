@@ -149,6 +149,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "lq_max") o.line_quads.max_side_px = x;
     else if (k == "lq_rb") o.line_quads.refine_black = x != 0;
     else if (k == "lq_spare") o.line_quads.spare_bits = static_cast<int>(x);
+    else if (k == "lq_check") o.line_quads.check_before_refining = x != 0;
     else if (k == "lq_ri") o.line_quads.refine_inner = x != 0;
     else if (k == "ls_sigma") o.line_quads.segments.sigma = x;
     else if (k == "ls_tau") o.line_quads.segments.angle_tolerance_deg = x;
@@ -157,6 +158,10 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "ls_eps") o.line_quads.segments.log_eps = x;
     else if (k == "ls_seed") o.line_quads.segments.min_seed_gradient = x;
     else if (k == "ls_cap") o.line_quads.segments.max_region_pixels = static_cast<int>(x);
+    else if (k == "lq_scale") o.line_quads.scale = x;
+    else if (k == "ls_straight") o.line_quads.segments.straight_sides = static_cast<int>(x);
+    else if (k == "ls_reach") o.line_quads.segments.straight_check_px = x;
+    else if (k == "ls_sseed") o.line_quads.segments.straight_seeds_only = x != 0;
     else if (k == "ls_cuts") o.line_quads.segments.max_cuts = static_cast<int>(x);
     else if (k == "rq_min") o.ring_quads.min_size_px = x;
     else if (k == "rq_max") o.ring_quads.max_size_px = x;

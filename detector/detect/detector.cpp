@@ -17,6 +17,7 @@
 #include "detect/photometric_refine.hpp"
 #include "detect/printed_square.hpp"
 #include "detect/line_quads.hpp"
+#include "detect/payload_decode.hpp"
 #include "detect/ring_quads.hpp"
 #include "detect/suppress_duplicates.hpp"
 #include "detect/workspace_impl.hpp"
@@ -243,10 +244,14 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       for (const Detection& d : decoded) c.push_back(d.corners);
       return c;
     };
+    const int max_d = *std::max_element(widths.begin(), widths.end());
     const auto refined = [&](const std::vector<Quad>& quads) {
       std::vector<Quad> out;
       for (const Quad& q : quads)
-        if (auto r = refine_quad_edges(gray, q.corners, opt_.threshold_quads.refine)) {
+        if (opt_.line_quads.check_before_refining && opt_.payload.quick_reject &&
+            !border_contrast_plausible(*found.decode_image, q.corners, max_d, opt_.payload.min_contrast))
+          continue;
+        else if (auto r = refine_quad_edges(gray, q.corners, opt_.threshold_quads.refine)) {
           out.push_back(q);
           out.back().corners = *r;
         }

@@ -259,6 +259,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("ring_quads.min_hole", ring_quads.min_hole, 0);
   finite_above("line_quads.max_side_px", line_quads.max_side_px, 0);
   finite_at_least("line_quads.min_side_px", line_quads.min_side_px, 0);
+  if (!(line_quads.scale > 0 && line_quads.scale <= 1)) fail("line_quads.scale", line_quads.scale, "must be in (0, 1]");
   int_within("line_quads.spare_bits", line_quads.spare_bits, 0, 16);
   finite_at_least("line_quads.segments.sigma", line_quads.segments.sigma, 0);
   finite_above("line_quads.segments.angle_tolerance_deg", line_quads.segments.angle_tolerance_deg, 0);
@@ -270,6 +271,8 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("line_quads.segments.min_length_px", line_quads.segments.min_length_px, 0);
   int_within("line_quads.segments.max_region_pixels", line_quads.segments.max_region_pixels, 0, kMaxPixelsCeiling);
   int_within("line_quads.segments.max_cuts", line_quads.segments.max_cuts, 0, 100);
+  int_within("line_quads.segments.straight_sides", line_quads.segments.straight_sides, 0, 2);
+  finite_above("line_quads.segments.straight_check_px", line_quads.segments.straight_check_px, 0);
   finite_at_least("photometric_guard.max_kink_px", photometric_guard.max_kink_px, 0);
   finite_at_least("photometric_guard.max_blur_px", photometric_guard.max_blur_px, 0);
   finite_at_least("photometric_guard.min_kink_significance", photometric_guard.min_kink_significance, 0);

@@ -28,16 +28,23 @@ struct LineQuadOptions {
   // as a tag 3-5 px from its place (realistic seed 1, frame 106).
   bool refine_black = false;
   bool refine_inner = true;  // each printed square's inner square refined before it is read
+  // The border pre-filter (PayloadOptions::quick_reject) asked of a quad before it is refined, not
+  // only after: refining every one of some 380 quads a frame was a third of the line quads' time.
+  bool check_before_refining = false;
   // A tag read from these quads is at most (bits its family corrects - spare_bits) off its code: some
   // 380 such quads a realistic frame are read, and with 1 spare bit a 36h11 false detection 2 bits off
   // came from one on the corpus.
   int spare_bits = 2;
+  // The edges found on the image resampled to this scale (in (0, 1]; 1: as it is), their ends mapped
+  // back; the quads are then read and refined at full resolution.
+  double scale = 1;
   LineSegmentOptions segments;
 };
 
 struct LineQuadScratch {
   LineSegmentScratch segments;
   std::vector<Segment> both_ways;
+  ImageF half, blurred, tmp;
 };
 
 // The quads of `img`'s edges within the size bounds whose centre lies inside none of `covered`

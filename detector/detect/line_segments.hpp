@@ -39,22 +39,37 @@ struct LineSegmentOptions {
   // for are a small tag's sides, and long edges and textures are where the time would go. 0: no cap.
   int max_region_pixels = 0;
   int max_cuts = 8;  // LSD's radius cuts of a region not dense enough, at most this many
+  // A pixel takes part only when the pixels straight_check_px away along its edge (across its
+  // gradient), on this many of its two sides (0: every pixel; 1: either; 2: both), point within the
+  // tolerance of its own direction: blurred noise is aligned over a pixel or two, not along a line.
+  int straight_sides = 0;  // 0..2
+  double straight_check_px = 3;  // > 0
+  bool straight_seeds_only = false;
 };
 
 // Buffers kept from one image to the next (storage only grows).
 struct LineSegmentScratch {
   ImageF blurred, tmp;
-  std::vector<float> ux, uy, mag;  // unit gradient and magnitude per pixel corner
-  std::vector<std::uint8_t> used;
-  std::vector<std::uint32_t> order, bin_count;
+  // The gradient grid with a one-entry rim on every side, so that a pixel's 8 neighbours are always
+  // there to read: unit gradient per pixel corner, NaN where the pixel takes no part or is used.
+  struct Direction {
+    float ux, uy;
+  };
+  std::vector<Direction> dir;
+  std::vector<float> mag;
+  std::vector<std::uint32_t> candidates, order, bin_count;
+  std::vector<std::uint16_t> bin;
+  std::vector<std::uint8_t> aligned;
   struct RegionPixel {
     std::int32_t x, y;  // on the gradient grid
-    std::uint32_t i;    // y * (width - 1) + x
+    std::uint32_t i;    // index into dir (rim included)
+    float ux, uy;       // its direction (dir[i] is NaN while it is in the region)
   };
   std::vector<RegionPixel> region;
 };
 
-// Throws std::invalid_argument when min_gradient <= 0 or angle_tolerance_deg is not in (0, 90].
+// Throws std::invalid_argument when min_gradient <= 0, angle_tolerance_deg is not in (0, 90],
+// straight_sides is not in 0..2 or straight_check_px <= 0.
 std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOptions& opt, LineSegmentScratch& scratch);
 
 }  // namespace tagbench

@@ -49,6 +49,19 @@ TEST(LineQuads, DarkAndLightSquaresGiveTheirOutline) {
   }
 }
 
+// Edges found on a resampled image (scale < 1) are mapped back: the outline is still within a pixel
+// or two of a 30 px square's corners at 0.6 and 0.5.
+TEST(LineQuads, EdgesFromAResampledImageMapBack) {
+  LineQuadScratch s;
+  const Corners c = synth::square_tag_corners(50, 46, 30, 0.4);
+  const ImageF img = synth::filled_quad_image(100, c, 0.8f, 0.2f);
+  for (const double scale : {0.6, 0.5}) {
+    LineQuadOptions o = on();
+    o.scale = scale;
+    EXPECT_LT(best_match(line_quads(img, {}, o, s), c), 1.5) << scale;
+  }
+}
+
 // Quads centred inside a found tag, and quads with a side over max_side_px, are not returned.
 TEST(LineQuads, SkipsCoveredAndLargeQuads) {
   LineQuadScratch s;
@@ -75,6 +88,14 @@ TEST(LineQuads, OffInBothProfilesAndValidated) {
   EXPECT_THROW(o.validate(), std::invalid_argument);
   o = DetectorOptions{};
   o.line_quads.segments.min_gradient = 0;  // the unit gradient would divide by a zero magnitude
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+  for (const double scale : {0.0, 1.5}) {
+    o = DetectorOptions{};
+    o.line_quads.scale = scale;
+    EXPECT_THROW(o.validate(), std::invalid_argument) << scale;
+  }
+  o = DetectorOptions{};
+  o.line_quads.segments.straight_sides = 3;
   EXPECT_THROW(o.validate(), std::invalid_argument);
 }
 

@@ -38,10 +38,10 @@ Match along(const std::vector<Segment>& segs, const Eigen::Vector2d& a, const Ei
 }
 
 // The segment along each side of a 22 px square turned by phi, `inside` on `outside`.
-std::array<Match, 4> side_matches(double phi, float outside, float inside) {
+std::array<Match, 4> side_matches(double phi, float outside, float inside, const LineSegmentOptions& o = {}) {
   const Corners c = synth::square_tag_corners(40, 40, 22, phi);
   LineSegmentScratch s;
-  const auto segs = detect_line_segments(synth::filled_quad_image(80, c, outside, inside), LineSegmentOptions{}, s);
+  const auto segs = detect_line_segments(synth::filled_quad_image(80, c, outside, inside), o, s);
   std::array<Match, 4> m;
   for (int i = 0; i < 4; ++i) m[i] = along(segs, c[i], c[(i + 1) % 4]);
   return m;
@@ -67,6 +67,45 @@ TEST(LineSegments, LightSquareRunsTheOtherWay) {
     ASSERT_TRUE(m[i].found) << "side " << i;
     EXPECT_TRUE(m[i].forward) << "side " << i;
   }
+}
+
+// The straight-edge check keeps a square's sides, whether it drops the pixels that fail it or only
+// keeps them from seeding.
+TEST(LineSegments, StraightCheckKeepsASquaresSides) {
+  for (const bool seeds_only : {false, true})
+    for (const int sides : {1, 2}) {
+      LineSegmentOptions o;
+      o.straight_sides = sides;
+      o.straight_seeds_only = seeds_only;
+      const auto m = side_matches(0.5, 0.8f, 0.2f, o);
+      for (int i = 0; i < 4; ++i) {
+        ASSERT_TRUE(m[i].found) << "side " << i << " sides " << sides << " seeds_only " << seeds_only;
+        EXPECT_GT(m[i].length, 0.6 * 22) << "side " << i;  // as without the check
+      }
+    }
+}
+
+// Pixels dropped by the check take no part: the 6 px ends of a dark bar, under twice the reach,
+// have no pixel with aligned pixels on both sides, so no segment, though each gives one unchecked.
+TEST(LineSegments, StraightCheckDropsEdgesShorterThanItsReach) {
+  ImageF img(40, 40, 0.8f);
+  for (int y = 10; y < 30; ++y)
+    for (int x = 17; x < 23; ++x) img.at(x, y) = 0.2f;  // a 6 x 20 bar
+  LineSegmentScratch s;
+  LineSegmentOptions o;
+  o.min_length_px = 1;
+  int vertical = 0, horizontal = 0;
+  for (const Segment& g : detect_line_segments(img, o, s))
+    (std::abs(g.p1.x() - g.p0.x()) > std::abs(g.p1.y() - g.p0.y()) ? horizontal : vertical)++;
+  EXPECT_EQ(vertical, 2);
+  EXPECT_EQ(horizontal, 2);
+  o.straight_sides = 2;
+  o.straight_check_px = 4;
+  horizontal = vertical = 0;
+  for (const Segment& g : detect_line_segments(img, o, s))
+    (std::abs(g.p1.x() - g.p0.x()) > std::abs(g.p1.y() - g.p0.y()) ? horizontal : vertical)++;
+  EXPECT_EQ(vertical, 2);
+  EXPECT_EQ(horizontal, 0);
 }
 
 // LSD's a-contrario test: a flat image has no segment, and seeded noise (sigma 8 grey levels) next
@@ -109,6 +148,12 @@ TEST(LineSegments, BadOptionsRefused) {
   EXPECT_THROW(detect_line_segments(ImageF(20, 20, 0.5f), o, s), std::invalid_argument);
   o = LineSegmentOptions{};
   o.angle_tolerance_deg = 95;
+  EXPECT_THROW(detect_line_segments(ImageF(20, 20, 0.5f), o, s), std::invalid_argument);
+  o = LineSegmentOptions{};
+  o.straight_sides = 3;
+  EXPECT_THROW(detect_line_segments(ImageF(20, 20, 0.5f), o, s), std::invalid_argument);
+  o = LineSegmentOptions{};
+  o.straight_check_px = 0;
   EXPECT_THROW(detect_line_segments(ImageF(20, 20, 0.5f), o, s), std::invalid_argument);
 }
 
