@@ -16,7 +16,15 @@ bool centre_covered(const Quad& q, std::span<const Corners> covered) {
 std::vector<Quad> line_quads(const ImageF& img, std::span<const Corners> covered, const LineQuadOptions& opt,
                              LineQuadScratch& scratch) {
   std::vector<Segment>& segs = scratch.both_ways;
-  if (opt.scale < 1) {
+  if (opt.scale == 0.5) {  // the 2 x 2 average: cheaper, and on the realistic set no worse than below
+    half_resolution(img, scratch.half);
+    segs = detect_line_segments(scratch.half, opt.segments, scratch.segments);
+    for (Segment& g : segs) {
+      g.p0 = {full_from_half(g.p0.x()), full_from_half(g.p0.y())};
+      g.p1 = {full_from_half(g.p1.x()), full_from_half(g.p1.y())};
+      g.length *= 2;
+    }
+  } else if (opt.scale < 1) {
     // Anti-aliased (the blur that, with the resampling's own, makes sigma 0.6 at the new scale, as
     // LSD's scaling does), then sampled bilinearly; the edges' ends mapped back.
     const double s = opt.scale;

@@ -35,8 +35,8 @@ struct LineQuadOptions {
   // 380 such quads a realistic frame are read, and with 1 spare bit a 36h11 false detection 2 bits off
   // came from one on the corpus.
   int spare_bits = 2;
-  // The edges found on the image resampled to this scale (in (0, 1]; 1: as it is), their ends mapped
-  // back; the quads are then read and refined at full resolution.
+  // The edges found on the image resampled to this scale (in (0, 1]; 1: as it is; 0.5: its 2 x 2
+  // average), their ends mapped back; the quads are then read and refined at full resolution.
   double scale = 1;
   LineSegmentOptions segments;
 };
