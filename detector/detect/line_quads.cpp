@@ -2,11 +2,39 @@
 
 #include <algorithm>
 #include <cmath>
-#include <algorithm>
 
 #include "detect/blur.hpp"
 
 namespace tagbench {
+
+namespace {
+
+// img (at least 2 x 2) at `scale` < 1 into scratch.small: blurred so that, with the resampling's own,
+// the blur is LSD's 0.6 px at the new scale, then sampled bilinearly (pixel centres at integers).
+void resample(const ImageF& img, double scale, LineQuadScratch& scratch) {
+  gaussian_blur(img, 0.6 * std::sqrt(1 / (scale * scale) - 1), scratch.tmp, scratch.blurred);
+  const ImageF& src = scratch.blurred;
+  ImageF& out = scratch.small;
+  out.width = std::max(1, static_cast<int>(img.width * scale));
+  out.height = std::max(1, static_cast<int>(img.height * scale));
+  out.data.resize(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height));
+  for (int y = 0; y < out.height; ++y) {
+    const double sy = std::clamp((y + 0.5) / scale - 0.5, 0.0, img.height - 1.0);
+    const int y0 = std::min(static_cast<int>(sy), img.height - 2);
+    const float fy = static_cast<float>(sy - y0);
+    for (int x = 0; x < out.width; ++x) {
+      const double sx = std::clamp((x + 0.5) / scale - 0.5, 0.0, img.width - 1.0);
+      const int x0 = std::min(static_cast<int>(sx), img.width - 2);
+      const float fx = static_cast<float>(sx - x0);
+      const float* r0 = src.data.data() + src.index(x0, y0);
+      const float* r1 = r0 + src.width;
+      const float top = r0[0] + fx * (r0[1] - r0[0]), bottom = r1[0] + fx * (r1[1] - r1[0]);
+      out.at(x, y) = top + fy * (bottom - top);
+    }
+  }
+}
+
+}  // namespace
 
 bool centre_covered(const Quad& q, std::span<const Corners> covered) {
   const Eigen::Vector2d centre = (q.corners[0] + q.corners[1] + q.corners[2] + q.corners[3]) / 4;
@@ -16,44 +44,19 @@ bool centre_covered(const Quad& q, std::span<const Corners> covered) {
 std::vector<Quad> line_quads(const ImageF& img, std::span<const Corners> covered, const LineQuadOptions& opt,
                              LineQuadScratch& scratch) {
   std::vector<Segment>& segs = scratch.both_ways;
-  if (opt.scale == 0.5) {  // the 2 x 2 average: cheaper, and on the realistic set no worse than below
-    half_resolution(img, scratch.half);
-    segs = detect_line_segments(scratch.half, opt.segments, scratch.segments);
-    for (Segment& g : segs) {
-      g.p0 = {full_from_half(g.p0.x()), full_from_half(g.p0.y())};
-      g.p1 = {full_from_half(g.p1.x()), full_from_half(g.p1.y())};
-      g.length *= 2;
+  if (opt.scale < 1 && img.width >= 2 && img.height >= 2) {
+    double (*to_full)(double, double) = [](double v, double) { return full_from_half(v); };
+    if (opt.scale == 0.5) {  // the 2 x 2 average: cheaper than resampling, and as good on the realistic set
+      half_resolution(img, scratch.small);
+    } else {
+      resample(img, opt.scale, scratch);
+      to_full = [](double v, double scale) { return (v + 0.5) / scale - 0.5; };
     }
-  } else if (opt.scale < 1) {
-    // Anti-aliased (the blur that, with the resampling's own, makes sigma 0.6 at the new scale, as
-    // LSD's scaling does), then sampled bilinearly; the edges' ends mapped back.
-    const double s = opt.scale;
-    gaussian_blur(img, 0.6 * std::sqrt(1 / (s * s) - 1), scratch.tmp, scratch.blurred);
-    ImageF& small = scratch.half;
-    const int w = std::max(1, static_cast<int>(img.width * s)), h = std::max(1, static_cast<int>(img.height * s));
-    small.width = w, small.height = h;
-    small.data.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-    const ImageF& src = scratch.blurred;
-    for (int y = 0; y < h; ++y) {
-      const double sy = std::clamp((y + 0.5) / s - 0.5, 0.0, img.height - 1.0);
-      const int y0 = std::min(static_cast<int>(sy), img.height - 2 < 0 ? 0 : img.height - 2);
-      const float fy = static_cast<float>(sy - y0);
-      for (int x = 0; x < w; ++x) {
-        const double sx = std::clamp((x + 0.5) / s - 0.5, 0.0, img.width - 1.0);
-        const int x0 = std::min(static_cast<int>(sx), img.width - 2 < 0 ? 0 : img.width - 2);
-        const float fx = static_cast<float>(sx - x0);
-        const float* r0 = src.data.data() + src.index(x0, y0);
-        const float* r1 = img.height > 1 ? r0 + src.width : r0;
-        const float top = r0[0] + fx * (r0[img.width > 1 ? 1 : 0] - r0[0]);
-        const float bottom = r1[0] + fx * (r1[img.width > 1 ? 1 : 0] - r1[0]);
-        small.data[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] = top + fy * (bottom - top);
-      }
-    }
-    segs = detect_line_segments(small, opt.segments, scratch.segments);
+    segs = detect_line_segments(scratch.small, opt.segments, scratch.segments);
     for (Segment& g : segs) {
-      g.p0 = ((g.p0.array() + 0.5) / s - 0.5).matrix();
-      g.p1 = ((g.p1.array() + 0.5) / s - 0.5).matrix();
-      g.length /= s;
+      g.p0 = {to_full(g.p0.x(), opt.scale), to_full(g.p0.y(), opt.scale)};
+      g.p1 = {to_full(g.p1.x(), opt.scale), to_full(g.p1.y(), opt.scale)};
+      g.length /= opt.scale;
     }
   } else {
     segs = detect_line_segments(img, opt.segments, scratch.segments);

@@ -44,7 +44,7 @@ struct LineQuadOptions {
 struct LineQuadScratch {
   LineSegmentScratch segments;
   std::vector<Segment> both_ways;
-  ImageF half, blurred, tmp;
+  ImageF small, blurred, tmp;  // the resampled image (LineQuadOptions::scale)
 };
 
 // The quads of `img`'s edges within the size bounds whose centre lies inside none of `covered`
