@@ -29,11 +29,13 @@ struct LineSegmentOptions {
   double angle_tolerance_deg = 22.5;  // LSD's tau, in (0, 90]
   // Gradient magnitude floor, grey levels (of 255) per pixel: LSD's q / sin(tau) with q = 2.
   double min_gradient = 3.0;  // > 0
-  double min_density = 0.5;
+  double min_density = 0.4;  // LSD: 0.7; 0.5 until session 23
   // Regions grow only from pixels at least this strong (grey levels per pixel), down to min_gradient:
   // weak texture then seeds no region of its own (most of the time went to such regions).
   double min_seed_gradient = 0;
-  double log_eps = 0.0;       // -log10 of the accepted NFA (LSD: 0, one false segment per image)
+  // -log10 of the accepted NFA (LSD: 0, one false segment an image; here up to 100: the quads made
+  // of them must still read 2 bits closer than their family corrects, LineQuadOptions::spare_bits).
+  double log_eps = -2.0;
   double min_length_px = 4.0;  // shorter segments are not reported
   // A region growing past this many pixels is dropped whole (its pixels stay used): the edges this is
   // for are a small tag's sides, and long edges and textures are where the time would go. 0: no cap.
