@@ -259,7 +259,8 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("ring_quads.min_hole", ring_quads.min_hole, 0);
   finite_above("line_quads.max_side_px", line_quads.max_side_px, 0);
   finite_at_least("line_quads.min_side_px", line_quads.min_side_px, 0);
-  if (!(line_quads.scale > 0 && line_quads.scale <= 1)) fail("line_quads.scale", line_quads.scale, "must be in (0, 1]");
+  finite_above("line_quads.scale", line_quads.scale, 0);
+  within("line_quads.scale", line_quads.scale, 0, 1);
   int_within("line_quads.spare_bits", line_quads.spare_bits, 0, 16);
   finite_at_least("line_quads.segments.sigma", line_quads.segments.sigma, 0);
   finite_above("line_quads.segments.angle_tolerance_deg", line_quads.segments.angle_tolerance_deg, 0);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "detect/blur.hpp"
+#include "detect/payload_decode.hpp"
 
 namespace tagbench {
 
@@ -20,17 +21,8 @@ void resample(const ImageF& img, double scale, LineQuadScratch& scratch) {
   out.data.resize(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height));
   for (int y = 0; y < out.height; ++y) {
     const double sy = std::clamp((y + 0.5) / scale - 0.5, 0.0, img.height - 1.0);
-    const int y0 = std::min(static_cast<int>(sy), img.height - 2);
-    const float fy = static_cast<float>(sy - y0);
-    for (int x = 0; x < out.width; ++x) {
-      const double sx = std::clamp((x + 0.5) / scale - 0.5, 0.0, img.width - 1.0);
-      const int x0 = std::min(static_cast<int>(sx), img.width - 2);
-      const float fx = static_cast<float>(sx - x0);
-      const float* r0 = src.data.data() + src.index(x0, y0);
-      const float* r1 = r0 + src.width;
-      const float top = r0[0] + fx * (r0[1] - r0[0]), bottom = r1[0] + fx * (r1[1] - r1[0]);
-      out.at(x, y) = top + fy * (bottom - top);
-    }
+    for (int x = 0; x < out.width; ++x)
+      out.at(x, y) = sample_bilinear_inside(src, {std::clamp((x + 0.5) / scale - 0.5, 0.0, img.width - 1.0), sy});
   }
 }
 

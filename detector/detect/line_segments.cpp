@@ -61,9 +61,12 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
     const float* r1 = r0 + b.width;
     const std::size_t row = static_cast<std::size_t>(y + 1) * static_cast<std::size_t>(P) + 1;
     float* m_row = s.mag.data() + row;
+    const auto gradient = [&](int x) {  // the 2 x 2 mask at (x + 0.5, y + 0.5)
+      return std::array<float, 2>{0.5f * (r0[x + 1] + r1[x + 1] - r0[x] - r1[x]),
+                                  0.5f * (r1[x] + r1[x + 1] - r0[x] - r0[x + 1])};
+    };
     for (int x = 0; x < W; ++x) {  // no branch: vectorised
-      const float gx = 0.5f * (r0[x + 1] + r1[x + 1] - r0[x] - r1[x]);
-      const float gy = 0.5f * (r1[x] + r1[x + 1] - r0[x] - r0[x + 1]);
+      const auto [gx, gy] = gradient(x);
       m_row[x] = std::sqrt(gx * gx + gy * gy);
     }
     // (A branch-free version of this loop, every direction computed and NaN below the floor, measured
@@ -75,8 +78,7 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
         s.dir[i] = {kNaN, kNaN};
         continue;
       }
-      const float gx = 0.5f * (r0[x + 1] + r1[x + 1] - r0[x] - r1[x]);
-      const float gy = 0.5f * (r1[x] + r1[x + 1] - r0[x] - r0[x + 1]);
+      const auto [gx, gy] = gradient(x);
       s.dir[i] = {gx / m, gy / m};
       s.candidates.push_back(static_cast<std::uint32_t>(i));
       max_mag = std::max(max_mag, m);
