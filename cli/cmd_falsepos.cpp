@@ -55,15 +55,16 @@ generation_seconds. A quad is accepted at k when the nearest code (any rotation)
 
 detectors: whole detectors at their defaults on every image of the corpus (DIR/manifest.tsv, or
 every image under DIR), one family at a time: tagbench (ours, default profile: bits corrected by family,
-16h5 1, 25h9 2, 36h11 3),
-tagbench-paper (the paper's detector: 1 bit corrected),
+16h5 1, 25h9 2, 36h11 3), tagbench-thorough (the thorough profile: the default plus quads from
+straight edges), tagbench-paper (the paper's detector: 1 bit corrected),
 libapriltag-d2 (libapriltag 3.3's defaults: quad_decimate 2, 2 bits corrected), aruco-default
 (OpenCV 4.6 aruco's defaults). Writes DIR/fp_detectors.csv (per detector, family and subset: all,
 still, video-frame, group:NAME; false detections per image and per megapixel with exact Poisson 95 %
 intervals, the share of images with one with its Wilson interval, ms per image and Mpx/s),
 DIR/fp_detections.csv (every false detection with its image and corners) and DIR/fp_detectors.json.
-  --detectors LIST  comma-separated (default tagbench,tagbench-paper,libapriltag-d2,aruco-default;
-                    also tagbench-half, tagbench-paper-half, libapriltag-d1, aruco; external:NAME=COMMAND,
+  --detectors LIST  comma-separated (default tagbench,tagbench-thorough,tagbench-paper,libapriltag-d2,
+                    aruco-default; also tagbench-half, tagbench-paper-half, libapriltag-d1, aruco;
+                    external:NAME=COMMAND,
                     a detector outside the build run once on every readable image, as in tagbench
                     raytrace --help: its detections count under the family each names)
   --external-timeout S  seconds an external detector may take for all the images (default 1800)
@@ -255,6 +256,8 @@ int falsepos_detectors(const Words& w) {
      << ",\n  \"detectors\": {\n"
         "    \"tagbench\": \"tagbench default profile (DetectorOptions defaults: threshold quads, edge refinement, "
         "area payload reading, bits corrected by family (16h5 1, 25h9 2, 36h11 3), full resolution)\",\n"
+        "    \"tagbench-thorough\": \"tagbench DetectorOptions::thorough() (the default profile plus quads from "
+        "straight edges, line_quads)\",\n"
         "    \"tagbench-half\": \"tagbench default profile, quads found at half resolution\",\n"
         "    \"tagbench-paper\": \"tagbench DetectorOptions::paper() (sigma 0.8, 1 bit corrected, full resolution)\",\n"
         "    \"tagbench-paper-half\": \"tagbench DetectorOptions::paper(), segmentation at half resolution\",\n"

@@ -41,8 +41,9 @@ Options:
   --frames N          frames 0..N-1 of the set (default 50; make bench uses 200)
   --seed S            the set's seed (default 1)
   --family F          the tags' family (default 36h11; libapriltag and aruco also know 16h5, 25h9, 36h10)
-  --detectors LIST    comma-separated (default the seven: tagbench, tagbench-half, tagbench-paper,
-                      tagbench-paper-half, libapriltag-d1, libapriltag-d2, aruco; also aruco-default)
+  --detectors LIST    comma-separated (default the eight: tagbench, tagbench-thorough, tagbench-half,
+                      tagbench-paper, tagbench-paper-half, libapriltag-d1, libapriltag-d2, aruco; also
+                      aruco-default)
   --out DIR           where the results go (default results; created if missing)
   --export-frames DIR also write every frame into DIR: frame-NNNNN.jpg (the JPEG the detectors decode;
                       .png with --ideal) and frame-NNNNN.json (truth: corners TL,TR,BR,BL of the black

@@ -40,10 +40,11 @@ share of images on which A was faster.
   --realistic-frames N   realistic: frames of the realistic set (default 100; tagbench realistic)
   --seed S               realistic: the set's seed (default 1)
   --scenes-per-size N    scenes: make_scene images per size, 640x480, 1280x720, 1920x1080 (default 5)
-  --detectors LIST       comparator names (default tagbench,tagbench-half,tagbench-paper,
+  --detectors LIST       comparator names (default tagbench,tagbench-thorough,tagbench-half,tagbench-paper,
                          tagbench-paper-half,libapriltag-d1,libapriltag-d2,aruco)
-  --pairs LIST           A:B pairs (default tagbench:libapriltag-d1,tagbench-half:libapriltag-d2,
-                         tagbench-paper:libapriltag-d1,tagbench-paper-half:libapriltag-d2)
+  --pairs LIST           A:B pairs (default tagbench:libapriltag-d1,tagbench-thorough:libapriltag-d1,
+                         tagbench-half:libapriltag-d2,tagbench-paper:libapriltag-d1,
+                         tagbench-paper-half:libapriltag-d2)
   --family F             the family every detector looks for (default 36h11)
   --repeats R            timed runs per image and detector, fastest kept (default 1)
   --out DIR              where the results go (default results)
@@ -72,13 +73,15 @@ int cmd_speed(const Words& w) {
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   bench::SpeedOptions o;
   o.detectors = split_commas(a.get_or(
-      "detectors", "tagbench,tagbench-half,tagbench-paper,tagbench-paper-half,libapriltag-d1,libapriltag-d2,aruco"));
+      "detectors",
+      "tagbench,tagbench-thorough,tagbench-half,tagbench-paper,tagbench-paper-half,libapriltag-d1,libapriltag-d2,aruco"));
   if (o.detectors.empty()) throw UsageError("--detectors: empty list");
   o.family = a.get_or("family", "36h11");
   o.repeats = static_cast<int>(a.get_int("repeats", 1, 1, 100));
   const auto pairs = parse_pairs(a.get_or("pairs",
-                                          "tagbench:libapriltag-d1,tagbench-half:libapriltag-d2,"
-                                          "tagbench-paper:libapriltag-d1,tagbench-paper-half:libapriltag-d2"));
+                                          "tagbench:libapriltag-d1,tagbench-thorough:libapriltag-d1,"
+                                          "tagbench-half:libapriltag-d2,tagbench-paper:libapriltag-d1,"
+                                          "tagbench-paper-half:libapriltag-d2"));
   for (const auto& [x, y] : pairs)
     for (const auto& n : {x, y})
       if (std::find(o.detectors.begin(), o.detectors.end(), n) == o.detectors.end())

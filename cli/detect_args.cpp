@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 
 const char* const kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
                        [--min-margin M] [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
-                       [--profile default|paper] [--format json|jsonl|csv] [--draw OUT] [--debug-dir DIR]
+                       [--profile default|thorough|paper] [--format json|jsonl|csv] [--draw OUT] [--debug-dir DIR]
                        [--threads T] [--explain X,Y[,FAMILY:ID]]...
 
 Detects tags in every input and prints the detections on stdout, in input order.
@@ -25,7 +25,10 @@ Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted t
 .mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0); a lone '-': the
 paths are read from stdin, one a line (how the experiments run an external detector).
   --profile P          default (the default profile: threshold quads, refined edges, cells read over
-                       their area) or paper (the 2011 paper's detector exactly, sections III-IV)
+                       their area), thorough (the default plus quads from straight edges: more of the
+                       small, faint tags of photographs for about twice the time; their edges are
+                       found at full resolution even with --half-res) or paper (the 2011 paper's
+                       detector exactly, sections III-IV)
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
   --max-hamming K      payload bits corrected at most, 0..16, for every family (default: the paper
                        profile 1; the default profile by family, min(3, (h - 1) / 3) for a family of
@@ -80,7 +83,7 @@ a failed input.
 
 JSON output (one document for the whole run):
   {"tool": "tagbench detect",
-   "options": {"families": [names], "profile": "default" or "paper", "max_hamming": K, "min_decision_margin": M, "half_res": bool,
+   "options": {"families": [names], "profile": "default", "thorough" or "paper", "max_hamming": K, "min_decision_margin": M, "half_res": bool,
                "camera": [fx,fy,cx,cy] or null, "distortion": [k1,k2,p1,p2,k3] or null,
                "tag_size": metres or null},
    "images": [{"input": path or "video#frameN", "frame": N (videos only), "width": W, "height": H,
@@ -144,8 +147,10 @@ Settings parse_settings(const Args& a) {
   s.profile = a.get_or("profile", "default");
   if (s.profile == "paper")
     s.det = DetectorOptions::paper();
+  else if (s.profile == "thorough")
+    s.det = DetectorOptions::thorough();
   else if (s.profile != "default")
-    throw UsageError("--profile " + s.profile + ": expected paper or default");
+    throw UsageError("--profile " + s.profile + ": expected default, thorough or paper");
   if (a.has("family")) s.det.families = a.all("family");
   if (a.has("max-hamming")) {  // the same bits for every family, as asked
     s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));

@@ -15,7 +15,7 @@ namespace tagbench::cli::detect_cmd {
 namespace fs = std::filesystem;
 
 struct Settings {
-  std::string profile = "default";  // "default" or "paper" (--profile)
+  std::string profile = "default";  // "default", "thorough" or "paper" (--profile)
   DetectorOptions det;
   bool csv = false;
   bool jsonl = false;  // --format jsonl: one JSON line per image (the format tagbench score reads)

@@ -42,12 +42,14 @@ py::array_t<double> corners_array(const Corners& corners) {
   return out;
 }
 
-// The profiles by name (detector.hpp): "default" is DetectorOptions{}, "paper" DetectorOptions::paper()
-// (the 2011 paper's detector, bit-exact).
+// The profiles by name (detector.hpp): "default" is DetectorOptions{}, "thorough"
+// DetectorOptions::thorough() (the default plus quads from straight edges), "paper"
+// DetectorOptions::paper() (the 2011 paper's detector, bit-exact).
 DetectorOptions profile_options(const std::string& profile) {
   if (profile == "default") return DetectorOptions{};
+  if (profile == "thorough") return DetectorOptions::thorough();
   if (profile == "paper") return DetectorOptions::paper();
-  throw std::invalid_argument("profile = '" + profile + "': unknown (known: default, paper)");
+  throw std::invalid_argument("profile = '" + profile + "': unknown (known: default, thorough, paper)");
 }
 
 DetectorOptions make_options(const std::vector<std::string>& families, const std::optional<int>& max_hamming, double min_decision_margin,
@@ -129,7 +131,9 @@ PYBIND11_MODULE(tagbench, m) {
   py::class_<Detector>(m, "Detector",
                        "Detector(families=['36h11'], max_hamming=None, min_decision_margin=0, camera=None, "
                        "distortion=None, tag_size=None, half_resolution=False, profile='default'). profile: 'default' "
-                       "(DetectorOptions{}) or 'paper' (DetectorOptions::paper(), the 2011 paper's detector). "
+                       "(DetectorOptions{}), 'thorough' (DetectorOptions::thorough(): the default plus quads from straight "
+                       "edges, more of the small faint tags for about twice the time) or 'paper' "
+                       "(DetectorOptions::paper(), the 2011 paper's detector). "
                        "max_hamming: None = the profile's bits (default: by family, 36h11 3, 25h9 2, 16h5 1; paper: 1), "
                        "K = K bits for every family. The "
                        "other keywords are set on top of the profile's options. camera: "

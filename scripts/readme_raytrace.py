@@ -5,6 +5,7 @@ import os
 from readme_common import rows, table
 
 RT_NAMES = {"tagbench": "ours (default profile), full resolution", "tagbench-half": "ours (default profile), half resolution",
+            "tagbench-thorough": "ours (thorough profile), full resolution",
             "tagbench-paper": "ours (paper profile), full resolution",
             "tagbench-paper-half": "ours (paper profile), half resolution",
             "libapriltag-d1": "libapriltag 3.3, decimate 1", "libapriltag-d2": "libapriltag 3.3, decimate 2",

@@ -51,4 +51,4 @@ def loss_distance(d):
 
 def loss_realistic(d):
     """The same on the realistic set, per size bin."""
-    return _loss_table(os.path.join(d, "realistic_summary.csv"), ["tagbench-paper", "tagbench"])
+    return _loss_table(os.path.join(d, "realistic_summary.csv"), ["tagbench-paper", "tagbench", "tagbench-thorough"])

@@ -72,7 +72,7 @@ echo "bench: the realistic image set (small tags, JPEG photographs' camera; issu
 "$PY" scripts/plot_realistic.py results
 # The same set with another seed, which no choice of the default profile was measured on (every
 # issue-17 decision used seed 1): how far the seed-1 numbers carry to frames nobody tuned for.
-"$BIN" realistic --frames 200 --seed 2 --ceiling --detectors tagbench,tagbench-half,libapriltag-d1,libapriltag-d2 \
+"$BIN" realistic --frames 200 --seed 2 --ceiling --detectors tagbench,tagbench-thorough,tagbench-half,libapriltag-d1,libapriltag-d2 \
   --out results/realistic_seed2
 # Where our detectors lost the tags they missed (issue 17, section 2): per distance step and size bin.
 "$PY" scripts/loss_breakdown.py results/fig10_distance_summary.csv --out results/fig10_distance_loss.csv

@@ -18,10 +18,12 @@
 namespace tagbench::bench {
 
 struct FpDetectorsOptions {
-  // tagbench: our default profile; tagbench-paper: the paper's detector (both 1 bit corrected);
+  // tagbench: our default profile (bits corrected by family); tagbench-thorough: the thorough profile
+  // (the default plus the line quads); tagbench-paper: the paper's detector (1 bit corrected);
   // libapriltag-d2: libapriltag 3.3's defaults (quad_decimate 2, 2 bits corrected); aruco-default:
   // OpenCV 4.6 aruco's defaults.
-  std::vector<std::string> detectors = {"tagbench", "tagbench-paper", "libapriltag-d2", "aruco-default"};
+  std::vector<std::string> detectors = {"tagbench", "tagbench-thorough", "tagbench-paper", "libapriltag-d2",
+                                        "aruco-default"};
   std::vector<std::string> families = {"16h5", "25h9", "36h11"};
   // Detectors outside the build, named in `detectors`: each runs once on every readable image (its
   // path), all families at once; its detections count under the family each names (others dropped),

@@ -51,14 +51,15 @@ void check_setup(const ComparatorSetup& s) {
 
 class Ours final : public Comparator {
  public:
-  // paper: DetectorOptions::paper(), else the default profile; variant: see detector_variants.hpp.
-  Ours(std::string name, const ComparatorSetup& s, bool paper, bool half, const std::string& variant = "")
-      : Comparator(name), detector_(options(s, paper, half, variant, name)) {}
+  // profile: DetectorOptions::paper(), thorough() or the default; variant: see detector_variants.hpp.
+  Ours(std::string name, const ComparatorSetup& s, const DetectorOptions& profile, bool half,
+       const std::string& variant = "")
+      : Comparator(name), detector_(options(s, profile, half, variant, name)) {}
 
  private:
-  static DetectorOptions options(const ComparatorSetup& s, bool paper, bool half, const std::string& variant,
-                                 const std::string& name) {
-    DetectorOptions o = paper ? DetectorOptions::paper() : DetectorOptions{};
+  static DetectorOptions options(const ComparatorSetup& s, const DetectorOptions& profile, bool half,
+                                 const std::string& variant, const std::string& name) {
+    DetectorOptions o = profile;
     o.families = {s.family};
     o.half_resolution = half;
     if (wants_pose(s)) {
@@ -262,6 +263,12 @@ class Aruco final : public Comparator {
 
 }  // namespace
 
+namespace {
+// Our detector's comparator names, each also the base of its variants ("BASE/KEY=V/...").
+constexpr const char* kOursBases[] = {"tagbench", "tagbench-half", "tagbench-paper", "tagbench-paper-half",
+                                      "tagbench-thorough"};
+}  // namespace
+
 const std::vector<std::string>& comparator_names() {
   static const std::vector<std::string> names{"tagbench",       "tagbench-half",  "tagbench-paper", "tagbench-paper-half",
                                               "libapriltag-d1", "libapriltag-d2", "aruco"};
@@ -269,7 +276,7 @@ const std::vector<std::string>& comparator_names() {
 }
 
 bool is_ours_variant(const std::string& name) {
-  for (const char* base : {"tagbench", "tagbench-half", "tagbench-paper", "tagbench-paper-half"})
+  for (const char* base : kOursBases)
     if (name.rfind(std::string(base) + "/", 0) == 0) return true;
   return false;
 }
@@ -277,6 +284,7 @@ bool is_ours_variant(const std::string& name) {
 const std::vector<std::string>& known_comparator_names() {
   static const std::vector<std::string> names = [] {
     auto n = comparator_names();
+    n.push_back("tagbench-thorough");
     n.push_back("aruco-default");
     return n;
   }();
@@ -285,12 +293,14 @@ const std::vector<std::string>& known_comparator_names() {
 
 std::unique_ptr<Comparator> make_comparator(const std::string& name, const ComparatorSetup& setup) {
   check_setup(setup);
-  for (const char* base : {"tagbench", "tagbench-half", "tagbench-paper", "tagbench-paper-half"}) {
+  for (const char* base : kOursBases) {
     const std::string b = base;
     if (name != b && name.rfind(b + "/", 0) != 0) continue;
     const std::string variant = name.size() > b.size() ? name.substr(b.size() + 1) : "";
-    return std::make_unique<Ours>(name, setup, b.find("paper") != std::string::npos,
-                                  b.find("half") != std::string::npos, variant);
+    const DetectorOptions profile = b.find("paper") != std::string::npos      ? DetectorOptions::paper()
+                                    : b.find("thorough") != std::string::npos ? DetectorOptions::thorough()
+                                                                              : DetectorOptions{};
+    return std::make_unique<Ours>(name, setup, profile, b.find("half") != std::string::npos, variant);
   }
   if (name == "libapriltag-d1") return std::make_unique<LibAprilTag>(name, setup, 1.0f);
   if (name == "libapriltag-d2") return std::make_unique<LibAprilTag>(name, setup, 2.0f);

@@ -9,7 +9,10 @@
 //   tagbench-half    the default profile finding quads at half resolution
 //   tagbench-paper   the paper's detector (DetectorOptions::paper()), full resolution
 //   tagbench-paper-half  the paper's detector segmenting at half resolution
-//   NAME/KEY=V/...   one of the four with options changed, for experiments (detector_variants.hpp)
+//   tagbench-thorough  the thorough profile (DetectorOptions::thorough(): the default plus the line
+//                    quads), full resolution. Not in the localization sweeps (comparator_names): make
+//                    bench runs it on the realistic set, the speed sets and the false-positive corpus.
+//   NAME/KEY=V/...   one of the five with options changed, for experiments (detector_variants.hpp)
 //   libapriltag-d1   AprilTag 3.3 (libapriltag), quad_decimate 1, nthreads 1, its other defaults
 //                    (refine_edges 1, decode_sharpening 0.25, 2 corrected bits); pose by its estimate_tag_pose
 //   libapriltag-d2   the same at quad_decimate 2 (its default)
@@ -103,9 +106,9 @@ class Comparator {
 // The localization sweeps' detectors: "tagbench", "tagbench-half", "tagbench-paper",
 // "tagbench-paper-half", "libapriltag-d1", "libapriltag-d2", "aruco".
 const std::vector<std::string>& comparator_names();
-// Every name make_comparator knows: the above and "aruco-default" (and ours' variants, below).
-// true for one of our four names followed by "/KEY=VALUE..." (an experiment's variant; make_comparator
-// checks the keys).
+// Every name make_comparator knows: the above, "tagbench-thorough" and "aruco-default" (and ours'
+// variants, below). is_ours_variant: true for one of our five names followed by "/KEY=VALUE..." (an
+// experiment's variant; make_comparator checks the keys).
 bool is_ours_variant(const std::string& name);
 const std::vector<std::string>& known_comparator_names();
 

@@ -66,7 +66,10 @@ RealisticRunSettings resolve_run_settings(const RealisticRunSettings& in) {
   RealisticRunSettings s = in;
   check_settings(s.set);
   if (s.frames <= 0) throw std::invalid_argument("frames must be > 0 (got " + std::to_string(s.frames) + ")");
-  if (s.detectors.empty()) s.detectors = comparator_names();
+  if (s.detectors.empty()) {  // the sweeps' seven and the thorough profile after the default
+    s.detectors = comparator_names();
+    s.detectors.insert(s.detectors.begin() + 1, "tagbench-thorough");
+  }
   const auto& known = known_comparator_names();
   for (std::size_t i = 0; i < s.detectors.size(); ++i) {
     std::string list;

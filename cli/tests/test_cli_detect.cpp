@@ -595,9 +595,13 @@ TEST(CliDetect, ProfilesAreNamedAndTheDefaultHasNoGradientPictures) {
   const Result p = run("detect --profile paper --family 25h9 " + q(dir / "in.png"));
   ASSERT_EQ(p.code, 0) << p.err;
   EXPECT_EQ(parse_json(p.out)["options"]["profile"].str, "paper");
+  const Result t = run("detect --profile thorough --family 25h9 " + q(dir / "in.png"));
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_EQ(parse_json(t.out)["options"]["profile"].str, "thorough");
+  EXPECT_EQ(parse_json(run("detect --family 25h9 " + q(dir / "in.png")).out)["options"]["profile"].str, "default");
   const Result bad = run("detect --profile fast " + q(dir / "in.png"));
   EXPECT_EQ(bad.code, 2);
-  EXPECT_NE(bad.err.find("--profile fast: expected paper or default"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--profile fast: expected default, thorough or paper"), std::string::npos) << bad.err;
 }
 
 TEST(CliDetect, VideoFramesAreEachAResult) {

@@ -35,11 +35,22 @@ void filter_rows(const ImageF& src, const std::vector<float>& k, int first, int 
       return s;
     };
     for (int X = 0; X < x_lo; ++X) dst[X] = clamped(X);
-    for (int X = x_lo; X < x_hi; ++X) {
-      const float* p = row + step * X + first;
-      float s = 0.0f;
-      for (int t = 0; t < taps; ++t) s += k[t] * p[t];
-      dst[X] = s;
+    if (step == 1) {
+      // Tap by tap over the whole run, which vectorises: each output still sums its taps in the
+      // order 0, 1, ... in float, so the values are those of the loop below, bit for bit.
+      const float* p = row + first;
+      std::fill(dst + x_lo, dst + x_hi, 0.0f);
+      for (int t = 0; t < taps; ++t) {
+        const float kt = k[t];
+        for (int X = x_lo; X < x_hi; ++X) dst[X] += kt * p[X + t];
+      }
+    } else {
+      for (int X = x_lo; X < x_hi; ++X) {
+        const float* p = row + step * X + first;
+        float s = 0.0f;
+        for (int t = 0; t < taps; ++t) s += k[t] * p[t];
+        dst[X] = s;
+      }
     }
     for (int X = x_hi; X < out_w; ++X) dst[X] = clamped(X);
   }

@@ -128,16 +128,24 @@ inline int bits_corrected_for(int min_hamming, int max_hamming, bool hamming_by_
   return hamming_by_family ? (max_hamming < cap ? max_hamming : cap) : max_hamming;
 }
 
-// Two profiles. The default member values are the DEFAULT profile, what the library and `tagbench
+// Three profiles. The default member values are the DEFAULT profile, what the library and `tagbench
 // detect` use unless told otherwise: the threshold quad finder with edge refinement, the area
 // payload reader and the photometric corner refinement (chosen by measurement, README "Default
-// profile"). DetectorOptions::paper() is the paper's detector (sections III-IV) exactly as the reproduction of its experiments uses it.
+// profile"). DetectorOptions::paper() is the paper's detector (sections III-IV) exactly as the
+// reproduction of its experiments uses it. DetectorOptions::thorough() is the default profile with
+// the line quads on (line_quads.hpp): more of the small, faint tags of photographs for about twice
+// the default profile's time (README, "The thorough profile").
 struct DetectorOptions {
   // The paper's detector: the gradient quad finder and point payload reading, no photometric
   // refinement, every other field at
   // its default (which is the paper's value, or off for the additions that keep the paper's
   // results). Every paper experiment (Figs. 6, 7, 9, 10; tagbench-paper in the comparisons) uses it.
   static DetectorOptions paper();
+  // The default profile plus quads from straight edges (line_quads.enabled): on the realistic set,
+  // 20-24 px tags 87 % -> 94 %, at 2.1 x the default profile's time (1.6 x libapriltag at decimate 1;
+  // docs/default-profile.md, sessions 22-24). The edges are found at full resolution (line_quads.scale
+  // 1) whatever half_resolution says: with it, only the threshold stage runs at half size.
+  static DetectorOptions thorough();
 
   std::vector<std::string> families = {"36h11"};  // built-in names or family files
   // Bits corrected at most (paper(): 1, the Java default; docs/paper-to-code.md section 1). Default

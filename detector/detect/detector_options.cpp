@@ -172,6 +172,12 @@ DetectorOptions DetectorOptions::paper() {
   return o;
 }
 
+DetectorOptions DetectorOptions::thorough() {
+  DetectorOptions o;
+  o.line_quads.enabled = true;
+  return o;
+}
+
 int DetectorOptions::bits_corrected(int min_hamming) const {
   return bits_corrected_for(min_hamming, max_hamming, hamming_by_family);
 }

@@ -1,10 +1,13 @@
 #pragma once
-// <tagbench/detector.hpp>: the AprilTag detector, in two profiles: the 2011 paper's (E. Olson, ICRA 2011;
-// DetectorOptions::paper()) and the default profile (DetectorOptions{}).
+// <tagbench/detector.hpp>: the AprilTag detector, in three profiles: the 2011 paper's (E. Olson, ICRA 2011;
+// DetectorOptions::paper()), the default profile (DetectorOptions{}) and the thorough profile
+// (DetectorOptions::thorough(): the default plus quads from straight edges, for small faint tags, at
+// about twice the time).
 //
 // What a user needs, and nothing of OpenCV (cv::Mat input: <tagbench/opencv.hpp>):
 //   tagbench::DetectorOptions  settings, each with its documented default; the defaults are the
-//                              default profile, DetectorOptions::paper() the 2011 paper's detector;
+//                              default profile, DetectorOptions::paper() the 2011 paper's detector,
+//                              DetectorOptions::thorough() the default with the line quads;
 //                              validate() names the first bad field in one line
 //   tagbench::Detector         built once from the options (loads the families, validates), then
 //                              detect(image) any number of times

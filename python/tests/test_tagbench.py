@@ -33,7 +33,7 @@ class DetectTest(unittest.TestCase):
         for family, tag_id in (("36h11", 7), ("16h5", 29)):
             img = tagbench.render_tag(family, tag_id, px_per_cell=12, margin=25)
             self.assertEqual(img.dtype, np.uint8)
-            for profile in ("default", "paper"):
+            for profile in ("default", "thorough", "paper"):
                 found = tagbench.Detector(families=[family], profile=profile).detect(img)
                 self.assertEqual(len(found), 1, profile)
                 np.testing.assert_allclose(found[0].corners, expected_corners(family, 12, 25), atol=0.25)

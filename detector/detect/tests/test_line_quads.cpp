@@ -74,9 +74,10 @@ TEST(LineQuads, SkipsCoveredAndLargeQuads) {
 }
 
 // The detector option: off in both profiles, validated like every other.
-TEST(LineQuads, OffInBothProfilesAndValidated) {
+TEST(LineQuads, OnOnlyInTheThoroughProfileAndValidated) {
   EXPECT_FALSE(DetectorOptions{}.line_quads.enabled);
   EXPECT_FALSE(DetectorOptions::paper().line_quads.enabled);
+  EXPECT_TRUE(DetectorOptions::thorough().line_quads.enabled);
   DetectorOptions o;
   o.line_quads.max_side_px = 0;
   EXPECT_THROW(o.validate(), std::invalid_argument);

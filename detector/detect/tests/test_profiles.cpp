@@ -74,6 +74,33 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   d.validate();
 }
 
+// The thorough profile is the default with the line quads on, nothing else changed: with them off
+// again it detects exactly what the default does.
+TEST(Profiles, ThoroughIsTheDefaultWithLineQuads) {
+  const DetectorOptions t = DetectorOptions::thorough(), d;
+  EXPECT_TRUE(t.line_quads.enabled);
+  EXPECT_FALSE(d.line_quads.enabled);
+  EXPECT_EQ(t.line_quads.scale, 1.0);
+  t.validate();
+  DetectorOptions off = t;
+  off.line_quads.enabled = false;
+  const Detector a(d), b(off), c(t);
+  int found = 0, total = 0;
+  for (std::uint32_t seed = 1; seed <= 2; ++seed) {
+    const Scene s = small_tags(14.0, seed);
+    const auto x = a.detect(s.img), y = b.detect(s.img), z = c.detect(s.img);
+    ASSERT_EQ(x.size(), y.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      EXPECT_EQ(x[i].id, y[i].id);
+      for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(x[i].corners[k], y[i].corners[k]);
+    }
+    found += found_ids(z, s.ids);
+    total += static_cast<int>(s.ids.size());
+    for (const Detection& det : z) EXPECT_NE(std::find(s.ids.begin(), s.ids.end(), det.id), s.ids.end()) << det.id;
+  }
+  EXPECT_GE(found, total * 9 / 10);
+}
+
 // Small tags (black square 14 px, cells 1.75 px) with blur and noise: the default profile finds
 // (nearly) all of them, the paper's detector few, and neither reports a wrong id.
 TEST(Profiles, DefaultProfileFindsSmallTagsThePaperMisses) {
