@@ -261,12 +261,10 @@ class Aruco final : public Comparator {
   std::vector<cv::Point3f> object_;
 };
 
-}  // namespace
-
-namespace {
 // Our detector's comparator names, each also the base of its variants ("BASE/KEY=V/...").
 constexpr const char* kOursBases[] = {"tagbench", "tagbench-half", "tagbench-paper", "tagbench-paper-half",
                                       "tagbench-thorough"};
+
 }  // namespace
 
 const std::vector<std::string>& comparator_names() {

@@ -1,8 +1,9 @@
 #pragma once
 // Our detector with options changed, for experiments: the part of a comparator name after the base
-// name ("tagbench", "tagbench-half", "tagbench-paper", "tagbench-paper-half"), '/'-separated KEY=VALUE
-// pairs, e.g. "tagbench/finder=gradient/sharpen=0.25" or "tagbench/look=0" (each change of the default
-// profile measured on its own in the sweeps and the realistic set, comparators.hpp).
+// name ("tagbench", "tagbench-half", "tagbench-paper", "tagbench-paper-half", "tagbench-thorough"),
+// '/'-separated KEY=VALUE pairs, e.g. "tagbench/finder=gradient/sharpen=0.25" or "tagbench/look=0"
+// (each change of the default profile measured on its own in the sweeps and the realistic set,
+// comparators.hpp).
 //
 // The keys and the option each sets (detector.hpp; values in that option's units, booleans as 0/1):
 //   finder (threshold|gradient), reader (area|point), k, extent, sharpen, small_px, small_sharpen:
