@@ -46,7 +46,8 @@ int progress(QuadOutcome::Fate f) {
     case F::kNoHomography: return 1;
     case F::kUnreadable: return 2;
     case F::kNotDecoded: return 3;
-    case F::kDecoded: return 4;
+    case F::kTooFarForItsSource: return 4;
+    case F::kDecoded: return 5;
   }
   return 0;
 }
@@ -222,6 +223,12 @@ PointExplanation explain_point(const ExplainPoint& p, const DetectorTrace& trace
         out.text = "a candidate quad here was read, but no family decoded it within the bits corrected (" +
                    std::string(opt.hamming_by_family ? "by family, at most " : "") + std::to_string(opt.max_hamming) +
                    ") (give X,Y,FAMILY:ID to count the bits wrong)";
+        break;
+      case F::kTooFarForItsSource:
+        out.stage = "misread";
+        out.text = "a candidate quad here decoded as " + o.family + " id " + std::to_string(o.id) + " with " +
+                   std::to_string(o.hamming) + " bits corrected, more than its source accepts (the line quads: " +
+                   std::to_string(opt.line_quads.spare_bits) + " fewer than the family's)";
         break;
       case F::kDecoded:
         if (o.decision_margin < opt.min_decision_margin) {

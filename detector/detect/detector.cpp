@@ -259,6 +259,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     };
     const auto read = [&](const std::vector<Quad>& quads, bool refine_first) {
       const std::size_t first_new = decoded.size();
+      const std::size_t first_read = outcomes ? outcomes->size() : 0;
       decode_more(refine_first ? refined(quads) : quads);
       // Hundreds of such quads a frame are read: a tag from them must be spare_bits closer to its code
       // than a family corrects (a 36h11 false detection on the corpus and a misplaced quad on the
@@ -272,6 +273,15 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       };
       decoded.erase(std::remove_if(decoded.begin() + static_cast<std::ptrdiff_t>(first_new), decoded.end(), too_far),
                     decoded.end());
+      if (outcomes)  // the same judgement on the quads' outcomes, for explaining a lost tag
+        for (std::size_t i = first_read; i < outcomes->size(); ++i) {
+          QuadOutcome& o = (*outcomes)[i];
+          if (o.fate != QuadOutcome::Fate::kDecoded) continue;
+          Detection d;
+          d.family = o.family;
+          d.hamming = o.hamming;
+          if (too_far(d)) o.fate = QuadOutcome::Fate::kTooFarForItsSource;
+        }
       if (!refine_first) refine_since(first_new);
     };
     std::vector<Quad> lq = line_quads(gray, covered(), opt_.line_quads, workspace.impl().line_quads);

@@ -351,6 +351,10 @@ struct QuadOutcome {
     kUnreadable,      // no payload width could be read (cells outside the image, no border contrast)
     kNotDecoded,      // read, but no family decoded it within max_hamming
     kDecoded,         // became a detection (before duplicate suppression and the margin filter)
+    // Decoded within its family's correction, but with more bits corrected than the stage that made
+    // the quad accepts (the line quads: LineQuadOptions::spare_bits fewer); not reported. The
+    // fallbacks that take undecoded quads (code refit, bent reading) leave it alone, as when decoded.
+    kTooFarForItsSource,
   };
   Fate fate = Fate::kUnreadable;
   // The bits read per payload width d (index d; nullopt where not read), as seen through the quad.

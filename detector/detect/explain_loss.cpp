@@ -109,6 +109,12 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
           e.text = bits ? format("payload misread: %g bits wrong (%g corrected", e.bits_wrong,
                                         options.bits_corrected(fam.min_hamming())) + " for " + fam.name() + ")"
                         : "payload of the tag's width not read";
+        } else if (o.fate == F::kTooFarForItsSource) {
+          e.stage = LossStage::kMisread;
+          e.text = format("payload misread: %g bits wrong, decoded as ", e.bits_wrong) + o.family + " id " +
+                   std::to_string(o.id) + format(" with %g corrected, more than its quad's source accepts (the "
+                                                 "line quads: %g fewer than the family's)",
+                                                 o.hamming, options.line_quads.spare_bits);
         } else if (o.family != fam.name() || o.id != truth.id) {
           e.stage = LossStage::kWrongId;
           e.text = "decoded as " + o.family + " id " + std::to_string(o.id) +

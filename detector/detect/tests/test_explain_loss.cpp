@@ -117,6 +117,28 @@ TEST(ExplainLoss, WithdrawnByTheOcclusionRefitIsToldFromADuplicate) {
   EXPECT_EQ(explain_loss({&f, 3, truth}, t, {}, opt).stage, LossStage::kDuplicate);
 }
 
+// A quad decoded within its family's correction but refused by its source's stricter limit (the
+// line quads' spare bits) is a misread, with the bits of the tag's code read wrong.
+TEST(ExplainLoss, AQuadTooFarForItsSourceIsAMisread) {
+  const TagFamily& f = builtin_family("36h11");
+  const Corners truth = synth::square_tag_corners(70, 70, 80, 0.2);
+  DetectorTrace t;
+  t.quads.push_back(Quad{truth, {0, 1, 2, 3}, 0});
+  QuadOutcome o;
+  o.fate = QuadOutcome::Fate::kTooFarForItsSource;
+  o.family = "36h11";
+  o.id = 9;
+  o.hamming = 2;
+  o.bits[6] = f.codes()[9] ^ Code{0b101};  // two bits off
+  t.quad_outcomes.push_back(o);
+  const auto e = explain_loss({&f, 9, truth}, t, {}, DetectorOptions::thorough());
+  EXPECT_EQ(e.stage, LossStage::kMisread) << e.text;
+  EXPECT_EQ(e.bits_wrong, 2);
+  EXPECT_NE(e.text.find("with 2 corrected, more than its quad's source accepts (the line quads: 2 fewer"),
+            std::string::npos)
+      << e.text;
+}
+
 TEST(ExplainLoss, MissingSidesAndClustersAreCounted) {
   const TagFamily& f = builtin_family("25h9");
   const Corners truth = synth::square_tag_corners(80, 80, 90, 0.0);
