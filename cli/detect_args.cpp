@@ -145,11 +145,9 @@ std::vector<double> parse_list(const std::string& option, const std::string& tex
 Settings parse_settings(const Args& a) {
   Settings s;
   s.profile = a.get_or("profile", "default");
-  if (s.profile == "paper")
-    s.det = DetectorOptions::paper();
-  else if (s.profile == "thorough")
-    s.det = DetectorOptions::thorough();
-  else if (s.profile != "default")
+  if (const auto p = DetectorOptions::named_profile(s.profile))
+    s.det = *p;
+  else
     throw UsageError("--profile " + s.profile + ": expected default, thorough or paper");
   if (a.has("family")) s.det.families = a.all("family");
   if (a.has("max-hamming")) {  // the same bits for every family, as asked

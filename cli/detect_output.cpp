@@ -33,8 +33,7 @@ void Sink::begin() {
   std::string h = "{\n  \"tool\": \"tagbench detect\",\n  \"options\": {\"families\": [";
   for (std::size_t i = 0; i < det_.families().size(); ++i)
     h += (i ? ", " : "") + json_string(det_.families()[i].name());
-  const bool paper = o.quad_finder == QuadFinderKind::kGradient && o.payload_reader == PayloadReaderKind::kPoint;
-  h += "], \"profile\": " + json_string(paper ? "paper" : o.line_quads.enabled ? "thorough" : "default") +
+  h += "], \"profile\": " + json_string(s_.profile) +
        ", \"max_hamming\": " + std::to_string(o.max_hamming) +
        ", \"min_decision_margin\": " + json_number(o.min_decision_margin) +
        ", \"half_res\": " + (o.half_resolution ? "true" : "false") + ", \"camera\": ";

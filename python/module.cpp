@@ -42,13 +42,9 @@ py::array_t<double> corners_array(const Corners& corners) {
   return out;
 }
 
-// The profiles by name (detector.hpp): "default" is DetectorOptions{}, "thorough"
-// DetectorOptions::thorough() (the default plus quads from straight edges), "paper"
-// DetectorOptions::paper() (the 2011 paper's detector, bit-exact).
+// The profiles by name (DetectorOptions::named_profile): "default", "thorough", "paper".
 DetectorOptions profile_options(const std::string& profile) {
-  if (profile == "default") return DetectorOptions{};
-  if (profile == "thorough") return DetectorOptions::thorough();
-  if (profile == "paper") return DetectorOptions::paper();
+  if (auto o = DetectorOptions::named_profile(profile)) return *o;
   throw std::invalid_argument("profile = '" + profile + "': unknown (known: default, thorough, paper)");
 }
 

@@ -264,23 +264,21 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       // Hundreds of such quads a frame are read: a tag from them must be spare_bits closer to its code
       // than a family corrects (a 36h11 false detection on the corpus and a misplaced quad on the
       // realistic set were both 2 bits off).
-      const auto too_far = [&](const Detection& d) {
+      const auto too_far = [&](const std::string& family, int hamming) {
         for (const TagFamily& f : families_)
-          if (f.name() == d.family)
-            return d.hamming > bits_corrected_for(f.min_hamming(), opt_.max_hamming, opt_.hamming_by_family) -
-                                   opt_.line_quads.spare_bits;
+          if (f.name() == family)
+            return hamming > bits_corrected_for(f.min_hamming(), opt_.max_hamming, opt_.hamming_by_family) -
+                                 opt_.line_quads.spare_bits;
         return false;
       };
-      decoded.erase(std::remove_if(decoded.begin() + static_cast<std::ptrdiff_t>(first_new), decoded.end(), too_far),
+      decoded.erase(std::remove_if(decoded.begin() + static_cast<std::ptrdiff_t>(first_new), decoded.end(),
+                                   [&](const Detection& d) { return too_far(d.family, d.hamming); }),
                     decoded.end());
       if (outcomes)  // the same judgement on the quads' outcomes, for explaining a lost tag
         for (std::size_t i = first_read; i < outcomes->size(); ++i) {
           QuadOutcome& o = (*outcomes)[i];
-          if (o.fate != QuadOutcome::Fate::kDecoded) continue;
-          Detection d;
-          d.family = o.family;
-          d.hamming = o.hamming;
-          if (too_far(d)) o.fate = QuadOutcome::Fate::kTooFarForItsSource;
+          if (o.fate == QuadOutcome::Fate::kDecoded && too_far(o.family, o.hamming))
+            o.fate = QuadOutcome::Fate::kTooFarForItsSource;
         }
       if (!refine_first) refine_since(first_new);
     };

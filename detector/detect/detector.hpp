@@ -18,6 +18,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <string_view>
 #include <span>
 #include <string>
 #include <vector>
@@ -146,6 +147,9 @@ struct DetectorOptions {
   // docs/default-profile.md, sessions 22-24). The edges are found at full resolution (line_quads.scale
   // 1) whatever half_resolution says: with it, only the threshold stage runs at half size.
   static DetectorOptions thorough();
+  // A profile by its name, as the command line and Python name it: "default" (DetectorOptions{}),
+  // "thorough" or "paper"; nullopt for any other name.
+  static std::optional<DetectorOptions> named_profile(std::string_view name);
 
   std::vector<std::string> families = {"36h11"};  // built-in names or family files
   // Bits corrected at most (paper(): 1, the Java default; docs/paper-to-code.md section 1). Default

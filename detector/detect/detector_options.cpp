@@ -178,6 +178,13 @@ DetectorOptions DetectorOptions::thorough() {
   return o;
 }
 
+std::optional<DetectorOptions> DetectorOptions::named_profile(std::string_view name) {
+  if (name == "default") return DetectorOptions{};
+  if (name == "thorough") return thorough();
+  if (name == "paper") return paper();
+  return std::nullopt;
+}
+
 int DetectorOptions::bits_corrected(int min_hamming) const {
   return bits_corrected_for(min_hamming, max_hamming, hamming_by_family);
 }

@@ -101,6 +101,16 @@ TEST(Profiles, ThoroughIsTheDefaultWithLineQuads) {
   EXPECT_GE(found, total * 9 / 10);
 }
 
+// The names the command line and Python use.
+TEST(Profiles, NamedProfiles) {
+  EXPECT_EQ(DetectorOptions::named_profile("default")->line_quads.enabled, false);
+  EXPECT_EQ(DetectorOptions::named_profile("default")->quad_finder, QuadFinderKind::kThreshold);
+  EXPECT_EQ(DetectorOptions::named_profile("thorough")->line_quads.enabled, true);
+  EXPECT_EQ(DetectorOptions::named_profile("paper")->quad_finder, QuadFinderKind::kGradient);
+  EXPECT_FALSE(DetectorOptions::named_profile("fast").has_value());
+  EXPECT_FALSE(DetectorOptions::named_profile("").has_value());
+}
+
 // Small tags (black square 14 px, cells 1.75 px) with blur and noise: the default profile finds
 // (nearly) all of them, the paper's detector few, and neither reports a wrong id.
 TEST(Profiles, DefaultProfileFindsSmallTagsThePaperMisses) {
