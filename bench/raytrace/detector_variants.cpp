@@ -145,6 +145,11 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "lowc") o.threshold_quads.low_contrast.enabled = x != 0;
     else if (k == "psq") o.printed_square.enabled = x != 0;
     else if (k == "rq") o.ring_quads.enabled = x != 0;
+    else if (k == "coarse") o.coarse_pass.enabled = x != 0;
+    else if (k == "coarse_contrast") o.coarse_pass.min_contrast = static_cast<float>(x);
+    else if (k == "coarse_lowc") o.coarse_pass.low_contrast = x != 0;
+    else if (k == "coarse_occl") o.coarse_pass.occlusion_fit = x != 0;
+    else if (k == "coarse_minw") o.coarse_pass.min_tag_px = x;
     else if (k == "lq") o.line_quads.enabled = x != 0;
     else if (k == "lq_max") o.line_quads.max_side_px = x;
     else if (k == "lq_rb") o.line_quads.refine_black = x != 0;

@@ -199,6 +199,11 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       decode_more(group_look_quads(gray, workspace.impl().threshold_quads.pass.groups, found.quads, look, again,
                                    opt_.threshold_quads, opt_.second_look, opt_.group_look));
   }
+  if (opt_.coarse_pass.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution) {
+    std::vector<Corners> covered;  // coarse_pass.hpp: larger faint tags, from the half-size image
+    for (const Detection& d : decoded) covered.push_back(d.corners);
+    decode_more(coarse_pass_quads(gray, opt_.threshold_quads, covered, opt_.coarse_pass, workspace.impl().coarse));
+  }
   // Quads read as printed squares (printed_square.hpp): the black square inside each decoded; the
   // inner squares are placed only as well as the outer quad was, so the few that decode are refined
   // on the full-resolution image like every threshold quad (after decoding: refining every candidate

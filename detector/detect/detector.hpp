@@ -38,6 +38,7 @@
 #include "printed_square.hpp"
 #include "ring_quads.hpp"
 #include "line_quads.hpp"
+#include "coarse_pass.hpp"
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
@@ -201,6 +202,14 @@ struct DetectorOptions {
   // without a candidate, 0 of the 20 at 20-24 px (1 with a 1 px blur first): at those contrasts no
   // single threshold gives the square's outline (bench/experiments/candidate_loss, session 10).
   GroupLookOptions group_look;
+  // Beyond the paper: the threshold stage again on the half-size image with a lower contrast floor,
+  // for larger tags of low contrast; its quads that no tag found so far covers are decoded after
+  // the second look (coarse_pass.hpp; quad_finder kThreshold, full resolution only). Default profile
+  // on; paper(): off. Realistic set (200 frames): seed 1 1045 -> 1059 of 1384 tags (20-24 px 164 ->
+  // 165 of 188), seed 2 1013 -> 1035 (170 -> 173 of 214), none lost, no wrong id; about 20 % more
+  // time there and on the corpus, whose 16h5 false detections went 0.204 -> 0.210 an image (36h11
+  // still none) (issue 17, session 25; docs/default-profile.md).
+  CoarsePassOptions coarse_pass{.enabled = true};
   // Beyond the paper: each threshold quad that did not decode is also read as a printed square (the
   // white ring classed with the border): the black square inside it is a further candidate
   // (printed_square.hpp; quad_finder kThreshold). Default profile on; paper(): off.
@@ -307,6 +316,7 @@ struct DetectorOptions {
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
   //   soft_decode             max_bit_errors 0..64; max_distance, min_gap, confidence_cap finite >= 0;
   //   ring_quads              min_size_px, min_hole finite >= 0; max_size_px, max_fill finite > 0;
+  //   coarse_pass             min_contrast [0, 1]; min_tag_px finite >= 0;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
   //                           without; distortion only with a camera, finite;
   //   max_pixels              1..kMaxPixelsCeiling.

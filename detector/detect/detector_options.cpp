@@ -167,6 +167,7 @@ DetectorOptions DetectorOptions::paper() {
   o.printed_square.enabled = false;
   o.ring_quads.enabled = false;
   o.line_quads.enabled = false;
+  o.coarse_pass.enabled = false;
   o.soft_decode.enabled = false;
   o.threshold_quads.low_contrast.enabled = false;
   return o;
@@ -270,6 +271,8 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_above("ring_quads.max_size_px", ring_quads.max_size_px, 0);
   finite_above("ring_quads.max_fill", ring_quads.max_fill, 0);
   finite_at_least("ring_quads.min_hole", ring_quads.min_hole, 0);
+  within("coarse_pass.min_contrast", coarse_pass.min_contrast, 0, 1);
+  finite_at_least("coarse_pass.min_tag_px", coarse_pass.min_tag_px, 0);
   finite_above("line_quads.max_side_px", line_quads.max_side_px, 0);
   finite_at_least("line_quads.min_side_px", line_quads.min_side_px, 0);
   finite_above("line_quads.scale", line_quads.scale, 0);

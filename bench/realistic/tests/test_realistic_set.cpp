@@ -202,6 +202,43 @@ TEST(RealisticSet, ThoroughProfileFindsFaintTagsTheDefaultMisses) {
   }
 }
 
+// The coarse pass (coarse_pass.hpp, in the default profile): frames 4 and 164's tags (seed 1, 32-40
+// px, low contrast) have no quad in the full-resolution pass, not even from the line quads; the
+// threshold stage on the half-size image with a lower floor classes them whole. Every detection of
+// the profile without it is still there, and nothing is a wrong id.
+TEST(RealisticSet, CoarsePassFindsLargeFaintTagsTheFullResolutionPassMisses) {
+  const RealisticSettings s;  // seed 1, as make bench
+  DetectorOptions off;
+  off.coarse_pass.enabled = false;
+  const Detector dflt(off), coarse(DetectorOptions{});
+  for (const auto& [index, tag] : {std::pair{4, 1}, std::pair{164, 0}}) {
+    const RealisticFrame f = make_realistic_frame(s, index);
+    const RealisticTag& t = f.tags.at(static_cast<std::size_t>(tag));
+    const auto at_truth = [&](const std::vector<Detection>& found) {
+      for (const Detection& d : found) {
+        double worst = 0;
+        for (std::size_t i = 0; i < 4; ++i) worst = std::max(worst, (d.corners[i] - t.corners[i]).norm());
+        if (d.id == t.id && worst < 2) return true;
+      }
+      return false;
+    };
+    const auto a = detect(dflt, f.image), b = detect(coarse, f.image);
+    EXPECT_FALSE(at_truth(a)) << index;
+    EXPECT_TRUE(at_truth(b)) << index;
+    for (const Detection& d : a) {
+      bool kept = false;
+      for (const Detection& e : b) kept = kept || (e.id == d.id && (e.center - d.center).norm() < 0.5);
+      EXPECT_TRUE(kept) << index << " id " << d.id;
+    }
+    for (const Detection& d : b) {
+      bool known = false;
+      for (const RealisticTag& u : f.tags)
+        known = known || (u.id == d.id && (d.center - 0.25 * (u.corners[0] + u.corners[1] + u.corners[2] + u.corners[3])).norm() < 3);
+      EXPECT_TRUE(known) << index << " id " << d.id;
+    }
+  }
+}
+
 // Frame 8's tag 0 (seed 1, 17 px, tilted 40 degrees): a line quad reads it 2 bits off, which the
 // line quads refuse (LineQuadOptions::spare_bits); its loss is told as that misread, not as a
 // duplicate.
