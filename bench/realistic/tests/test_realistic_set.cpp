@@ -18,6 +18,16 @@ namespace tagbench::bench {
 namespace test_realistic_set {
 namespace {
 
+// Whether one of `found` is t's id with every corner within 2 px of t's.
+bool found_at_truth(const std::vector<Detection>& found, const RealisticTag& t) {
+  for (const Detection& d : found) {
+    double worst = 0;
+    for (std::size_t i = 0; i < 4; ++i) worst = std::max(worst, (d.corners[i] - t.corners[i]).norm());
+    if (d.id == t.id && worst < 2) return true;
+  }
+  return false;
+}
+
 bool same_pixels(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() && cv::countNonZero(a != b) == 0;
 }
@@ -177,14 +187,7 @@ TEST(RealisticSet, ThoroughProfileFindsFaintTagsTheDefaultMisses) {
   for (const auto& [index, tag] : {std::pair{107, 4}, std::pair{108, 0}}) {
     const RealisticFrame f = make_realistic_frame(s, index);
     const RealisticTag& t = f.tags.at(static_cast<std::size_t>(tag));
-    const auto at_truth = [&](const std::vector<Detection>& found) {
-      for (const Detection& d : found) {
-        double worst = 0;
-        for (std::size_t i = 0; i < 4; ++i) worst = std::max(worst, (d.corners[i] - t.corners[i]).norm());
-        if (d.id == t.id && worst < 2) return true;
-      }
-      return false;
-    };
+    const auto at_truth = [&](const std::vector<Detection>& found) { return found_at_truth(found, t); };
     const auto a = detect(dflt, f.image), b = detect(thorough, f.image), c = detect(without, f.image);
     EXPECT_FALSE(at_truth(a)) << index;
     EXPECT_TRUE(at_truth(b)) << index;
@@ -214,14 +217,7 @@ TEST(RealisticSet, CoarsePassFindsLargeFaintTagsTheFullResolutionPassMisses) {
   for (const auto& [index, tag] : {std::pair{4, 1}, std::pair{164, 0}}) {
     const RealisticFrame f = make_realistic_frame(s, index);
     const RealisticTag& t = f.tags.at(static_cast<std::size_t>(tag));
-    const auto at_truth = [&](const std::vector<Detection>& found) {
-      for (const Detection& d : found) {
-        double worst = 0;
-        for (std::size_t i = 0; i < 4; ++i) worst = std::max(worst, (d.corners[i] - t.corners[i]).norm());
-        if (d.id == t.id && worst < 2) return true;
-      }
-      return false;
-    };
+    const auto at_truth = [&](const std::vector<Detection>& found) { return found_at_truth(found, t); };
     const auto a = detect(dflt, f.image), b = detect(coarse, f.image);
     EXPECT_FALSE(at_truth(a)) << index;
     EXPECT_TRUE(at_truth(b)) << index;

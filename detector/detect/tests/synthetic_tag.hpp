@@ -1,8 +1,10 @@
 #pragma once
 // Supersampled renderings of tags seen through a known homography, for the detector tests.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -10,6 +12,7 @@
 #include "detect/blur.hpp"
 #include "detect/homography.hpp"
 #include "detect/image.hpp"
+#include "detect/quad_search.hpp"
 
 namespace tagbench::synth {
 
@@ -88,6 +91,18 @@ inline ImageF filled_quad_image(int size, const Corners& c, float outside, float
       img.at(x, y) = outside + (inside - outside) * static_cast<float>(hits) / 16.0f;
     }
   return gaussian_blur(img, 0.8);
+}
+
+// The smallest worst-corner distance between `want` and any of `quads` (any starting corner), px.
+inline double best_quad_match(const std::vector<Quad>& quads, const Corners& want) {
+  double best = 1e9;
+  for (const Quad& q : quads)
+    for (int r = 0; r < 4; ++r) {
+      double worst = 0;
+      for (int i = 0; i < 4; ++i) worst = std::max(worst, (q.corners[(i + r) % 4] - want[i]).norm());
+      best = std::min(best, worst);
+    }
+  return best;
 }
 
 }  // namespace tagbench::synth

@@ -12,18 +12,6 @@ using namespace tagbench;
 
 namespace {
 
-// The smallest worst-corner distance between `want` and any quad (any starting corner).
-double best_match(const std::vector<Quad>& quads, const Corners& want) {
-  double best = 1e9;
-  for (const Quad& q : quads)
-    for (int r = 0; r < 4; ++r) {
-      double worst = 0;
-      for (int i = 0; i < 4; ++i) worst = std::max(worst, (q.corners[(i + r) % 4] - want[i]).norm());
-      best = std::min(best, worst);
-    }
-  return best;
-}
-
 CoarsePassOptions on() {
   CoarsePassOptions o;
   o.enabled = true;
@@ -42,12 +30,12 @@ TEST(CoarsePass, FindsASquareUnderTheMainFloor) {
   ThresholdQuadWorkspace ws;
   std::vector<Quad> main;
   find_threshold_quads(img, d.threshold_quads, ws, main);
-  EXPECT_GT(best_match(main, c), 3.0);
-  EXPECT_LT(best_match(coarse_pass_quads(img, d.threshold_quads, {}, on(), ws), c), 0.5);
+  EXPECT_GT(synth::best_quad_match(main, c), 3.0);
+  EXPECT_LT(synth::best_quad_match(coarse_pass_quads(img, d.threshold_quads, {}, on(), ws), c), 0.5);
   // At the main pass's floor the coarse pass does not see it either.
   CoarsePassOptions same = on();
   same.min_contrast = d.threshold_quads.threshold.min_contrast;
-  EXPECT_GT(best_match(coarse_pass_quads(img, d.threshold_quads, {}, same, ws), c), 3.0);
+  EXPECT_GT(synth::best_quad_match(coarse_pass_quads(img, d.threshold_quads, {}, same, ws), c), 3.0);
 }
 
 // Quads centred inside a tag found already are not returned; min_tag_px drops narrower ones.
@@ -56,12 +44,12 @@ TEST(CoarsePass, SkipsCoveredAndNarrowQuads) {
   const Corners c = synth::square_tag_corners(60, 58, 36, 0.3);
   const ImageF img = synth::filled_quad_image(120, c, 0.8f, 0.2f);
   ThresholdQuadWorkspace ws;
-  EXPECT_LT(best_match(coarse_pass_quads(img, d.threshold_quads, {}, on(), ws), c), 0.5);
+  EXPECT_LT(synth::best_quad_match(coarse_pass_quads(img, d.threshold_quads, {}, on(), ws), c), 0.5);
   const std::vector<Corners> covered{synth::square_tag_corners(60, 58, 20, 0)};
-  EXPECT_GT(best_match(coarse_pass_quads(img, d.threshold_quads, covered, on(), ws), c), 3.0);
+  EXPECT_GT(synth::best_quad_match(coarse_pass_quads(img, d.threshold_quads, covered, on(), ws), c), 3.0);
   CoarsePassOptions wide = on();
   wide.min_tag_px = 40;  // wider than the square
-  EXPECT_GT(best_match(coarse_pass_quads(img, d.threshold_quads, {}, wide, ws), c), 3.0);
+  EXPECT_GT(synth::best_quad_match(coarse_pass_quads(img, d.threshold_quads, {}, wide, ws), c), 3.0);
 }
 
 // The detector option: on in the default profile (and so in the thorough one), off in the paper's;

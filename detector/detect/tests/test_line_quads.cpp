@@ -15,18 +15,6 @@ using namespace tagbench;
 
 namespace {
 
-// The smallest worst-corner distance between `want` and any found quad (any starting corner).
-double best_match(const std::vector<Quad>& quads, const Corners& want) {
-  double best = 1e9;
-  for (const Quad& q : quads)
-    for (int r = 0; r < 4; ++r) {
-      double worst = 0;
-      for (int i = 0; i < 4; ++i) worst = std::max(worst, (q.corners[(i + r) % 4] - want[i]).norm());
-      best = std::min(best, worst);
-    }
-  return best;
-}
-
 LineQuadOptions on(double max_side_px = 64) {
   LineQuadOptions o;
   o.enabled = true;
@@ -44,7 +32,7 @@ TEST(LineQuads, DarkAndLightSquaresGiveTheirOutline) {
     const Corners c = synth::square_tag_corners(40, 40, 22, 0.4);
     const ImageF img = synth::filled_quad_image(80, c, dark ? 0.8f : 0.2f, dark ? 0.2f : 0.75f);
     const auto quads = line_quads(img, {}, on(), s);
-    EXPECT_LT(best_match(quads, c), 1.0) << (dark ? "dark" : "light");
+    EXPECT_LT(synth::best_quad_match(quads, c), 1.0) << (dark ? "dark" : "light");
     for (const Quad& q : quads) EXPECT_EQ(q.observed_perimeter, 0);
   }
 }
@@ -58,7 +46,7 @@ TEST(LineQuads, EdgesFromAResampledImageMapBack) {
   for (const double scale : {0.6, 0.5}) {
     LineQuadOptions o = on();
     o.scale = scale;
-    EXPECT_LT(best_match(line_quads(img, {}, o, s), c), 1.5) << scale;
+    EXPECT_LT(synth::best_quad_match(line_quads(img, {}, o, s), c), 1.5) << scale;
   }
 }
 
@@ -68,9 +56,9 @@ TEST(LineQuads, SkipsCoveredAndLargeQuads) {
   const Corners c = synth::square_tag_corners(40, 40, 22, 0.4);
   const ImageF img = synth::filled_quad_image(80, c, 0.8f, 0.2f);
   const std::vector<Corners> covered{synth::square_tag_corners(40, 40, 30, 0)};
-  EXPECT_GT(best_match(line_quads(img, covered, on(), s), c), 5.0);
-  EXPECT_GT(best_match(line_quads(img, {}, on(20), s), c), 5.0);
-  EXPECT_LT(best_match(line_quads(img, {}, on(24), s), c), 1.0);
+  EXPECT_GT(synth::best_quad_match(line_quads(img, covered, on(), s), c), 5.0);
+  EXPECT_GT(synth::best_quad_match(line_quads(img, {}, on(20), s), c), 5.0);
+  EXPECT_LT(synth::best_quad_match(line_quads(img, {}, on(24), s), c), 1.0);
 }
 
 // The detector option: off in both profiles, validated like every other.
