@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "detect/edge_refine.hpp"
 #include "detect/line_quads.hpp"  // centre_covered
 
 namespace tagbench {
@@ -20,12 +19,7 @@ std::vector<Quad> coarse_pass_quads(const ImageF& gray, const ThresholdQuadOptio
   std::vector<Quad> quads;
   find_threshold_quads(gray, q, ws, quads);
   std::erase_if(quads, [&](const Quad& x) { return centre_covered(x, covered); });
-  if (main.refine_edges) {
-    EdgeRefineOptions r = main.refine;
-    r.min_range_px = std::max(r.min_range_px, 2.0);  // one half-size pixel either side (threshold_quads.hpp)
-    for (Quad& x : quads)
-      if (const auto c = refine_quad_edges(gray, x.corners, r, ws.refine)) x.corners = *c;
-  }
+  if (main.refine_edges) refine_threshold_quads(gray, q, quads, ws.refine);
   return quads;
 }
 

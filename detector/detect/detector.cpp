@@ -57,7 +57,8 @@ std::vector<DetectorWorkspace::Buffer> DetectorWorkspace::buffers() const {
           of("cluster_fill", w.seg.fill),
           of("cluster_pixels", w.clusters.pixels),
           of("cluster_offsets", w.clusters.offsets),
-          of("threshold_half", w.threshold_quads.half.data)};
+          of("threshold_half", w.threshold_quads.half.data),
+          of("coarse_half", w.coarse.half.data)};
 }
 
 std::size_t DetectorWorkspace::capacity_bytes() const {
@@ -199,11 +200,15 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       decode_more(group_look_quads(gray, workspace.impl().threshold_quads.pass.groups, found.quads, look, again,
                                    opt_.threshold_quads, opt_.second_look, opt_.group_look));
   }
-  if (opt_.coarse_pass.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution) {
-    std::vector<Corners> covered;  // coarse_pass.hpp: larger faint tags, from the half-size image
-    for (const Detection& d : decoded) covered.push_back(d.corners);
-    decode_more(coarse_pass_quads(gray, opt_.threshold_quads, covered, opt_.coarse_pass, workspace.impl().coarse));
-  }
+  // The corners of every tag decoded so far: the later candidate sources skip quads centred inside one.
+  const auto covered = [&] {
+    std::vector<Corners> c;
+    for (const Detection& d : decoded) c.push_back(d.corners);
+    return c;
+  };
+  if (opt_.coarse_pass.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution)
+    decode_more(coarse_pass_quads(gray, opt_.threshold_quads, covered(), opt_.coarse_pass,  // coarse_pass.hpp
+                                  workspace.impl().coarse));
   // Quads read as printed squares (printed_square.hpp): the black square inside each decoded; the
   // inner squares are placed only as well as the outer quad was, so the few that decode are refined
   // on the full-resolution image like every threshold quad (after decoding: refining every candidate
@@ -244,11 +249,6 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     // line_quads.hpp: quads of straight edges where no tag was found, each read as the black square,
     // then (those still uncovered) as printed squares; each refined before reading or, when its
     // refine_black / refine_inner option is off, only the tags it gives, after reading.
-    const auto covered = [&] {
-      std::vector<Corners> c;
-      for (const Detection& d : decoded) c.push_back(d.corners);
-      return c;
-    };
     const int max_d = *std::max_element(widths.begin(), widths.end());
     const auto refined = [&](const std::vector<Quad>& quads) {
       std::vector<Quad> out;

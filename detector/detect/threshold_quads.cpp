@@ -18,12 +18,24 @@ QuadFitOptions quad_fit_options_for(const QuadFitOptions& fit, bool halved) {
   return f;
 }
 
+bool threshold_quads_halved(const ImageF& img, const ThresholdQuadOptions& opt) {
+  return opt.halve && img.width >= 4 && img.height >= 4;
+}
+
+void refine_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, std::span<Quad> quads,
+                            EdgeRefineScratch& scratch) {
+  EdgeRefineOptions r = opt.refine;
+  if (threshold_quads_halved(img, opt)) r.min_range_px = std::max(r.min_range_px, 2.0);
+  for (Quad& q : quads)
+    if (const auto c = refine_quad_edges(img, q.corners, r, scratch)) q.corners = *c;
+}
+
 void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, ThresholdQuadWorkspace& ws,
                           std::vector<Quad>& out, ThresholdQuadStats* stats) {
   out.clear();
   ThresholdQuadStats st;
   auto t = Clock::now();
-  const bool halve = opt.halve && img.width >= 4 && img.height >= 4;
+  const bool halve = threshold_quads_halved(img, opt);
   if (halve) half_resolution(img, ws.half);
   const ImageF& in = halve ? ws.half : img;
   st.ms_halve = lap_ms(t);
@@ -55,12 +67,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
     }
   st.ms_fit = lap_ms(t);
 
-  if (opt.refine_edges) {
-    EdgeRefineOptions r = opt.refine;
-    if (halve) r.min_range_px = std::max(r.min_range_px, 2.0);
-    for (Quad& q : out)
-      if (const auto c = refine_quad_edges(img, q.corners, r, ws.refine)) q.corners = *c;
-  }
+  if (opt.refine_edges) refine_threshold_quads(img, opt, out, ws.refine);
   st.ms_refine = lap_ms(t);
   st.components = ws.pass.components.count;
   st.groups = ws.pass.groups.count();

@@ -6,6 +6,7 @@
 // Output: quads in the Quad convention of quad_search.hpp (corners clockwise on screen, full-
 // resolution pixels, pixel centres at integers; segments = -1, observed_perimeter = the quad's
 // perimeter), ready for tag_homography + read_payload like the paper's quads.
+#include <span>
 #include <vector>
 
 #include "boundaries.hpp"
@@ -64,6 +65,15 @@ struct ThresholdQuadStats {
 // sizes in full-resolution pixels are halved (min_tag_width, at least 3; outer.max_size_px) and the
 // outer-outline refit runs only with outer.at_half_resolution.
 QuadFitOptions quad_fit_options_for(const QuadFitOptions& fit, bool halved);
+
+// Whether find_threshold_quads works on the half-size image: opt.halve, and img at least 4 x 4.
+bool threshold_quads_halved(const ImageF& img, const ThresholdQuadOptions& opt);
+
+// Each of `quads` edge-refined on the full-resolution `img` with opt.refine (its min_range_px raised
+// to 2 px when the quads came from the half-size image, threshold_quads_halved); a quad whose
+// refinement fails keeps its corners. find_threshold_quads does this when opt.refine_edges.
+void refine_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, std::span<Quad> quads,
+                            EdgeRefineScratch& scratch);
 
 // Appends the candidate quads of `img` to `out` (cleared first).
 void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, ThresholdQuadWorkspace& ws,
