@@ -143,6 +143,10 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "glook_win") o.group_look.min_window_px = x;
     else if (k == "glook_n") o.group_look.max_windows = static_cast<int>(x);
     else if (k == "lowc") o.threshold_quads.low_contrast.enabled = x != 0;
+    else if (k == "self") o.payload_area.self_threshold.enabled = x != 0;
+    else if (k == "self_ring") o.payload_area.self_threshold.max_light_black_ring = x;
+    else if (k == "self_spare") o.payload_area.self_threshold.spare_bits = static_cast<int>(x);
+    else if (k == "self_h") o.payload_area.self_threshold.min_family_hamming = static_cast<int>(x);
     else if (k == "psq") o.printed_square.enabled = x != 0;
     else if (k == "rq") o.ring_quads.enabled = x != 0;
     else if (k == "coarse") o.coarse_pass.enabled = x != 0;

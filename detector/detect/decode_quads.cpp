@@ -34,6 +34,29 @@ bool best_family_decode(std::span<const TagFamily> families,
   return have;
 }
 
+// The second reading (SelfThresholdOptions, payload_area.hpp) of a quad the first decoded nothing
+// from: one per payload width, each family correcting spare_bits fewer bits.
+bool decode_self_threshold(const ImageF& img, const Eigen::Matrix3d& H, std::span<const TagFamily> families,
+                           int max_hamming, bool hamming_by_family, const PayloadAreaOptions& area, Detection& best) {
+  const SelfThresholdOptions& self = area.self_threshold;
+  std::array<std::optional<PayloadReading>, kMaxPayloadWidth + 1> by_width;
+  std::array<bool, kMaxPayloadWidth + 1> read{};
+  for (const TagFamily& f : families) {
+    const auto d = static_cast<std::size_t>(f.payload_width());
+    if (read[d] || f.min_hamming() < self.min_family_hamming) continue;
+    by_width[d] = read_payload_self_threshold(img, H, static_cast<int>(d), area);
+    read[d] = true;
+  }
+  return best_family_decode(
+      families, by_width,
+      [&](const TagFamily& f, const PayloadReading& r) -> std::optional<DecodeResult> {
+        const int corrected = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family) - self.spare_bits;
+        if (corrected < 0 || f.min_hamming() < self.min_family_hamming) return std::nullopt;
+        return f.decode(r.bits, corrected);
+      },
+      best);
+}
+
 }  // namespace
 
 bool decode_readings(std::span<const TagFamily> families, std::span<const std::optional<PayloadReading>> by_width,
@@ -101,6 +124,8 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
     }
     Detection best;
     bool have = decode_readings(families, by_width, max_hamming, hamming_by_family, best);
+    if (!have && area_opt && area_opt->self_threshold.enabled)
+      have = decode_self_threshold(decode_image, *H, families, max_hamming, hamming_by_family, *area_opt, best);
     if (!have && soft && soft->enabled) have = soft_decode_readings(families, by_width, *soft, best);
     if (readings)
       for (auto& r : by_width)

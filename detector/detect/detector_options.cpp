@@ -317,6 +317,9 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("payload_area.sharpening", payload_area.sharpening, 0);
   finite_at_least("payload_area.small_cell_px", payload_area.small_cell_px, 0);
   finite_at_least("payload_area.small_cell_sharpening", payload_area.small_cell_sharpening, 0);
+  within("payload_area.self_threshold.max_light_black_ring", payload_area.self_threshold.max_light_black_ring, 0, 1);
+  int_within("payload_area.self_threshold.spare_bits", payload_area.self_threshold.spare_bits, 0, 64);
+  int_within("payload_area.self_threshold.min_family_hamming", payload_area.self_threshold.min_family_hamming, 0, 64);
   int_within("soft_decode.max_bit_errors", soft_decode.max_bit_errors, 0, 64);
   finite_at_least("soft_decode.max_distance", soft_decode.max_distance, 0);
   finite_at_least("soft_decode.min_gap", soft_decode.min_gap, 0);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -11,16 +12,17 @@
 namespace tagbench {
 namespace {
 
-// The reading through any map of tag coordinates to the image (a homography, or a folded tag's two).
+// The cells of a reading through any map of tag coordinates to the image (a homography, or a folded
+// tag's two): `grid` the (d+4)^2 cell means (NaN off the image), `payload` the d x d sharpened values.
 template <class Map>
-std::optional<PayloadReading> read_area(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt,
-                                        bool keep_points) {
-  if (d < 1 || d > 8 || opt.samples_per_side < 1 || !(opt.sample_extent >= 0)) return std::nullopt;
+bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt, std::vector<double>& grid,
+                std::vector<double>& payload) {
+  if (d < 1 || d > 8 || opt.samples_per_side < 1 || !(opt.sample_extent >= 0)) return false;
   const int n = d + 4, k = opt.samples_per_side;
   const double cell = 2.0 / (d + 2);
   const auto centre = [&](int g) { return -1.0 + (g - 0.5) * cell; };
   // Cell means over the grid; NaN where a sample left the image.
-  std::vector<double> grid(static_cast<std::size_t>(n * n), std::nan(""));
+  grid.assign(static_cast<std::size_t>(n * n), std::nan(""));
   for (int gy = 0; gy < n; ++gy)
     for (int gx = 0; gx < n; ++gx) {
       double sum = 0;
@@ -44,7 +46,7 @@ std::optional<PayloadReading> read_area(const ImageF& img, const Map& map, int d
     for (int i = 0; i < 4; ++i) sides += (c[(i + 1) % 4] - c[i]).norm();
     if (sides / 4 / (d + 2) < opt.small_cell_px) sharpening = opt.small_cell_sharpening;
   }
-  std::vector<double> payload(static_cast<std::size_t>(d * d));
+  payload.resize(static_cast<std::size_t>(d * d));
   for (int y = 0; y < d; ++y)
     for (int x = 0; x < d; ++x) {
       const int gx = x + 2, gy = y + 2;
@@ -62,12 +64,79 @@ std::optional<PayloadReading> read_area(const ImageF& img, const Map& map, int d
       }
       payload[static_cast<std::size_t>(y * d + x)] = v;
     }
+  return true;
+}
+
+// The ring models' reading (read_payload_area).
+template <class Map>
+std::optional<PayloadReading> read_area(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt,
+                                        bool keep_points) {
+  std::vector<double> grid, payload;
+  if (!area_cells(img, map, d, opt, grid, payload)) return std::nullopt;
   auto r = decide_cells(grid, payload, d, opt.min_contrast);
   if (r && keep_points) add_sample_points(grid, d, map, *r);
   return r;
 }
 
+// The 2-means split of the payload values (Lloyd's iterations from the midpoint of the extremes):
+// the threshold and the two means, or nothing when one side empties.
+struct Split {
+  double threshold, low, high;
+};
+std::optional<Split> two_means(std::span<const double> v) {
+  const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  double t = 0.5 * (*lo + *hi);
+  Split s{t, *lo, *hi};
+  for (int it = 0; it < 32; ++it) {
+    double a = 0, b = 0;
+    int na = 0, nb = 0;
+    for (const double x : v) {
+      if (x > t) a += x, ++na;
+      else b += x, ++nb;
+    }
+    if (na == 0 || nb == 0) return std::nullopt;
+    s = Split{0.5 * (a / na + b / nb), b / nb, a / na};
+    if (s.threshold == t) break;
+    t = s.threshold;
+  }
+  return s;
+}
+
 }  // namespace
+
+std::optional<PayloadReading> read_payload_self_threshold(const ImageF& img, const Eigen::Matrix3d& H, int d,
+                                                          const PayloadAreaOptions& opt) {
+  std::vector<double> grid, payload;
+  if (!area_cells(img, [&](const Eigen::Vector2d& u) { return apply_homography(H, u); }, d, opt, grid, payload))
+    return std::nullopt;
+  for (const double v : payload)
+    if (std::isnan(v)) return std::nullopt;
+  const auto split = two_means(payload);
+  if (!split || !(split->high - split->low >= opt.min_contrast)) return std::nullopt;
+  const int n = d + 4;
+  int ring = 0, light = 0;  // the black ring's cells with a value, and those above the threshold
+  for (int gy = 1; gy < n - 1; ++gy)
+    for (int gx = 1; gx < n - 1; ++gx) {
+      const double v = grid[static_cast<std::size_t>(gy * n + gx)];
+      if (std::min({gx, gy, n - 1 - gx, n - 1 - gy}) != 1 || std::isnan(v)) continue;
+      ++ring;
+      light += v > split->threshold ? 1 : 0;
+    }
+  if (ring == 0 || light > opt.self_threshold.max_light_black_ring * ring) return std::nullopt;
+  PayloadReading r;
+  r.contrast = split->high - split->low;
+  const double half = 0.5 * r.contrast;
+  double margin = 1.0;
+  r.confidence.resize(payload.size());
+  for (std::size_t i = 0; i < payload.size(); ++i) {
+    const double c = (payload[i] - split->threshold) / half;
+    r.confidence[i] = static_cast<float>(c);
+    margin = std::min(margin, std::abs(c));
+    r.bits = (r.bits << 1) | (c > 0 ? 1u : 0u);
+  }
+  r.margin = std::clamp(margin, 0.0, 1.0);
+  return r;
+}
 
 std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::Matrix3d& H, int d,
                                                 const PayloadAreaOptions& opt, bool keep_points) {

@@ -5,6 +5,7 @@
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
 #include "detect/blur.hpp"
+#include "detect/decode_quads.hpp"
 #include "detect/payload_area.hpp"
 #include "synthetic_tag.hpp"
 
@@ -89,6 +90,63 @@ TEST(PayloadArea, SmallCellsGetTheirOwnSharpening) {
   EXPECT_NE(read(9, 0.5, 1.2), read(9, 0.5, 0));
   // 14 px (1.75 px cells): untouched.
   EXPECT_DOUBLE_EQ(read(14, 0.5, 1.2), read(14, 0.5, 0));
+}
+
+// A tag whose white ring is as dark as its black ring (a 1-cell ring blurred into a dark card): the
+// rings' models see no contrast, so the area reading gives nothing; the payload's own two levels still
+// read the code (read_payload_self_threshold), and decode_quads finds the tag only with the option on.
+TEST(PayloadSelfThreshold, ReadsATagWhoseWhiteRingIsLost) {
+  const TagFamily& f = builtin_family("36h11");
+  TagCells cells = tag_cells(f, 42);
+  for (int y = 0; y < cells.n; ++y)
+    for (int x = 0; x < cells.n; ++x)
+      if (std::min({x, y, cells.n - 1 - x, cells.n - 1 - y}) == 0) cells.white[static_cast<std::size_t>(y * cells.n + x)] = 0;
+  const Corners c = synth::square_tag_corners(30.2, 29.7, 22, 0.3);
+  const Eigen::Matrix3d H = synth::homography_for(c);
+  const ImageF img = gaussian_blur(synth::render_tag(60, 60, cells, H, 0.05f), 0.8);
+  EXPECT_FALSE(read_payload_area(img, H, 6).has_value());
+  const auto r = read_payload_self_threshold(img, H, 6, PayloadAreaOptions{});
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->bits, f.codes()[42]);
+  EXPECT_GT(r->contrast, 0.5);
+  EXPECT_GT(r->margin, 0.0);
+
+  const std::vector<TagFamily> fams = {f};
+  Quad q;
+  q.corners = c;
+  PayloadOptions payload;
+  payload.quick_reject = false;  // the pre-filter asks for a white ring: there is none here
+  PayloadAreaOptions area;
+  EXPECT_TRUE(decode_quads(img, std::vector<Quad>{q}, fams, 3, payload, &area).empty());
+  area.self_threshold.enabled = true;
+  const auto found = decode_quads(img, std::vector<Quad>{q}, fams, 3, payload, &area);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].id, 42);
+  EXPECT_EQ(found[0].hamming, 0);
+  // spare_bits and min_family_hamming limit it: 36h11's 11 is under 12.
+  area.self_threshold.min_family_hamming = 12;
+  EXPECT_TRUE(decode_quads(img, std::vector<Quad>{q}, fams, 3, payload, &area).empty());
+}
+
+// Texture is not a tag: on noise, a quad's black ring is as often above the payload's split as
+// below it, so few noise quads give a reading at all (and none of those decodes as 36h11 within 3
+// bits); a flat quad has one level only.
+TEST(PayloadSelfThreshold, RefusesMostNoiseAndFlatQuads) {
+  const TagFamily& f = builtin_family("36h11");
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const Eigen::Matrix3d H = synth::homography_for(synth::square_tag_corners(30, 30, 22, 0.2));
+  int read = 0, decoded = 0;
+  for (int k = 0; k < 100; ++k) {
+    ImageF img(60, 60, 0.0f);
+    for (auto& v : img.data) v = u(rng);
+    const auto r = read_payload_self_threshold(gaussian_blur(img, 0.8), H, 6, PayloadAreaOptions{});
+    read += r.has_value();
+    decoded += r && f.decode(r->bits, 3).has_value();
+  }
+  EXPECT_LE(read, 10);
+  EXPECT_EQ(decoded, 0);
+  EXPECT_FALSE(read_payload_self_threshold(ImageF(60, 60, 0.5f), H, 6, PayloadAreaOptions{}).has_value());
 }
 
 }  // namespace test_payload_area
