@@ -29,7 +29,7 @@ install(FILES include/tagbench/detector.hpp include/tagbench/family.hpp include/
               include/tagbench/tagbench.hpp ${TAGBENCH_GENERATED_INCLUDE}/tagbench/version.hpp
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tagbench COMPONENT dev)
 foreach(h codes/bits.hpp codes/hamming_scan.hpp codes/tag_family.hpp codes/families.hpp codes/tag_layout.hpp
-          detect/detector.hpp detect/detector_opencv.hpp detect/image.hpp detect/line_fit.hpp
+          detect/detector.hpp detect/detector_options.hpp detect/detector_opencv.hpp detect/image.hpp detect/line_fit.hpp
           detect/payload_decode.hpp detect/payload_area.hpp detect/pose.hpp detect/quad_search.hpp
           detect/segmentation.hpp detect/gradient.hpp detect/homography.hpp detect/threshold_quads.hpp
           detect/threshold.hpp detect/components.hpp detect/boundaries.hpp detect/angle_order.hpp detect/quad_fit.hpp

@@ -19,7 +19,7 @@
 namespace tagbench {
 
 struct CoarsePassOptions {
-  bool enabled = false;  // off here and in paper(); the default profile turns it on (detector.hpp)
+  bool enabled = false;  // off here and in paper(); the default profile turns it on (detector_options.hpp)
   // The half-size image's contrast floor (ThresholdOptions::min_contrast there), [0, 1]. At 20/255
   // (the main pass's) it found 12 more realistic tags instead of 19 (seed 1, occlusion_fit on,
   // min_tag_px 0).

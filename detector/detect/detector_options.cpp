@@ -1,4 +1,4 @@
-// DetectorOptions::validate: every numeric field's domain (detector.hpp documents the rules).
+// DetectorOptions::validate: every numeric field's domain (detector_options.hpp documents the rules).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "codes/families.hpp"
-#include "detect/detector.hpp"
+#include "detect/detector_options.hpp"
 
 namespace tagbench {
 namespace {

@@ -27,7 +27,7 @@
 namespace tagbench {
 
 struct LowContrastPassOptions {
-  bool enabled = false;                 // off here; the default profile turns it on (detector.hpp)
+  bool enabled = false;                 // off here; the default profile turns it on (detector_options.hpp)
   float min_contrast = 10.0f / 255.0f;  // the low floor, [0, 1]; below the main floor (else nothing runs)
   double max_size_px = 48;              // regions whose box's longer side is at most this + 2 windows, > 0 (default profile: 64)
   double min_size_px = 16;              // and at least this, >= 0

@@ -69,7 +69,7 @@ struct OuterOutlineOptions {
   // quad_fit.hpp's use: when the outermost outline gives no quad (none fitted, or refused by the ring
   // check), fit the innermost outward points (inner_outline_points), unless at least 80 % of them are
   // outermost too (the same points, the same failed fit), under the same ring check. Off here; the
-  // default profile turns it on (detector.hpp).
+  // default profile turns it on (detector_options.hpp).
   bool innermost = false;
   // Only when the outward points surround the centre: they fall into at least this share of the
   // angular bins, [0, 1]. On the realistic set the groups whose innermost outline gave a tag covered

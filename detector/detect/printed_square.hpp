@@ -28,7 +28,7 @@
 namespace tagbench {
 
 struct PrintedSquareOptions {
-  bool enabled = false;  // off here and in the paper profile; the default profile turns it on (detector.hpp)
+  bool enabled = false;  // off here and in the paper profile; the default profile turns it on (detector_options.hpp)
   // The detector refines the corners of the tags these quads give (edge_refine.hpp, with the threshold
   // stage's ThresholdQuadOptions::refine, on the full-resolution image): the inner square is placed
   // only as well as the outer quad was, at half resolution 1.5-3 px off (realistic set, seed 1).

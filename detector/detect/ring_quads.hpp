@@ -30,7 +30,7 @@
 namespace tagbench {
 
 struct RingQuadOptions {
-  bool enabled = false;      // off here and in the paper profile; the default profile turns it on (detector.hpp)
+  bool enabled = false;      // off here and in the paper profile; the default profile turns it on (detector_options.hpp)
   double min_size_px = 22;   // the group's box: longer side at least this (a 16 px tag's printed square), >= 0
   double max_size_px = 50;   // ... and at most this (a 40 px tag's), > 0
   double max_fill = 0.6;     // the light component's pixels at most this x the box's area, > 0

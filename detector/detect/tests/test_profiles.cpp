@@ -1,4 +1,4 @@
-// The two detector profiles (detector.hpp): DetectorOptions::paper() and the default profile, and the
+// The detector profiles (detector_options.hpp): DetectorOptions::paper() and the default profile, and the
 // default profile's quad finder alone (find_threshold_quads_in_image.hpp).
 #include <gtest/gtest.h>
 
