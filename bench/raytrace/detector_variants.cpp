@@ -149,6 +149,13 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "self_h") o.payload_area.self_threshold.min_family_hamming = static_cast<int>(x);
     else if (k == "psq") o.printed_square.enabled = x != 0;
     else if (k == "rq") o.ring_quads.enabled = x != 0;
+    else if (k == "dq") o.dark_outlines.enabled = x != 0;
+    else if (k == "dq_min") o.dark_outlines.min_size_px = x;
+    else if (k == "dq_max") o.dark_outlines.max_size_px = x;
+    else if (k == "dq_groups") o.dark_outlines.max_groups = static_cast<int>(x);
+    else if (k == "dq_ring") o.dark_outlines.ring_check = x != 0;
+    else if (k == "dq_light") o.dark_outlines.by_light = x != 0;
+    else if (k == "dq_outline") o.dark_outlines.outline_only = x != 0;
     else if (k == "coarse") o.coarse_pass.enabled = x != 0;
     else if (k == "coarse_contrast") o.coarse_pass.min_contrast = static_cast<float>(x);
     else if (k == "coarse_lowc") o.coarse_pass.low_contrast = x != 0;

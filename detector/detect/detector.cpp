@@ -206,6 +206,12 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     for (const Detection& d : decoded) c.push_back(d.corners);
     return c;
   };
+  if (opt_.dark_outlines.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution) {
+    auto& tq = workspace.impl().threshold_quads;  // dark_outlines.hpp: a dark component's groups joined
+    decode_more(dark_outline_quads(tq.pass.groups, tq.pass.components, gray, covered(), opt_.threshold_quads.fit,
+                                   opt_.threshold_quads.refine, opt_.dark_outlines, tq.fit,
+                                   workspace.impl().dark_outlines));
+  }
   if (opt_.coarse_pass.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution)
     decode_more(coarse_pass_quads(gray, opt_.threshold_quads, covered(), opt_.coarse_pass,  // coarse_pass.hpp
                                   workspace.impl().coarse));

@@ -168,6 +168,7 @@ DetectorOptions DetectorOptions::paper() {
   o.ring_quads.enabled = false;
   o.line_quads.enabled = false;
   o.coarse_pass.enabled = false;
+  o.dark_outlines.enabled = false;
   o.soft_decode.enabled = false;
   o.threshold_quads.low_contrast.enabled = false;
   return o;
@@ -176,6 +177,7 @@ DetectorOptions DetectorOptions::paper() {
 DetectorOptions DetectorOptions::thorough() {
   DetectorOptions o;
   o.line_quads.enabled = true;
+  o.dark_outlines.enabled = true;
   return o;
 }
 
@@ -273,6 +275,10 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("ring_quads.min_hole", ring_quads.min_hole, 0);
   within("coarse_pass.min_contrast", coarse_pass.min_contrast, 0, 1);
   finite_at_least("coarse_pass.min_tag_px", coarse_pass.min_tag_px, 0);
+  finite_at_least("dark_outlines.min_size_px", dark_outlines.min_size_px, 0);
+  finite_above("dark_outlines.max_size_px", dark_outlines.max_size_px, 0);
+  int_within("dark_outlines.min_groups", dark_outlines.min_groups, 2, 1 << 20);
+  int_within("dark_outlines.max_groups", dark_outlines.max_groups, dark_outlines.min_groups, 1 << 20);
   finite_above("line_quads.max_side_px", line_quads.max_side_px, 0);
   finite_at_least("line_quads.min_side_px", line_quads.min_side_px, 0);
   finite_above("line_quads.scale", line_quads.scale, 0);

@@ -1,7 +1,7 @@
 #pragma once
 // The detector's options (detector.hpp): which quad finder and payload reader, every stage's options
 // with its documented default, and the three profiles (DetectorOptions{} the default profile,
-// paper() sections III-IV exactly, thorough() the default plus the line quads). validate() (in
+// paper() sections III-IV exactly, thorough() the default plus the line quads and joined outlines). validate() (in
 // detector_options.cpp) names the first field out of range. Units and conventions as detector.hpp.
 #include <optional>
 #include <span>
@@ -22,6 +22,7 @@
 #include "ring_quads.hpp"
 #include "line_quads.hpp"
 #include "coarse_pass.hpp"
+#include "dark_outlines.hpp"
 #include "photometric_refine.hpp"
 #include "pose.hpp"
 #include "quad_search.hpp"
@@ -118,8 +119,9 @@ inline int bits_corrected_for(int min_hamming, int max_hamming, bool hamming_by_
 // payload reader and the photometric corner refinement (chosen by measurement, README "Default
 // profile"). DetectorOptions::paper() is the paper's detector (sections III-IV) exactly as the
 // reproduction of its experiments uses it. DetectorOptions::thorough() is the default profile with
-// the line quads on (line_quads.hpp): more of the small, faint tags of photographs for about twice
-// the default profile's time (README, "The thorough profile").
+// the line quads (line_quads.hpp) and the joined dark outlines (dark_outlines.hpp) on: more of the
+// small, faint tags of photographs for about twice the default profile's time (README, "The thorough
+// profile").
 struct DetectorOptions {
   // The paper's detector: the gradient quad finder and point payload reading, no photometric
   // refinement, every other field at
@@ -128,7 +130,9 @@ struct DetectorOptions {
   static DetectorOptions paper();
   // The default profile plus quads from straight edges (line_quads.enabled): on the realistic set,
   // 20-24 px tags 87 % -> 94 %, at 2.1 x the default profile's time (1.6 x libapriltag at decimate 1;
-  // docs/default-profile.md, sessions 22-24). The edges are found at full resolution (line_quads.scale
+  // docs/default-profile.md, sessions 22-24); and the joined dark outlines (dark_outlines.enabled,
+  // session 26: seed 1 1120 -> 1129 tags, 20-24 px 177 -> 178; seed 2 1077 -> 1082, 185 -> 187; 7 %
+  // more time). The edges are found at full resolution (line_quads.scale
   // 1) whatever half_resolution says: with it, only the threshold stage runs at half size.
   static DetectorOptions thorough();
   // A profile by its name, as the command line and Python name it: "default" (DetectorOptions{}),
@@ -193,6 +197,12 @@ struct DetectorOptions {
   // time there and on the corpus, whose 16h5 false detections went 0.204 -> 0.210 an image (36h11
   // still none) (issue 17, session 25; docs/default-profile.md).
   CoarsePassOptions coarse_pass{.enabled = true};
+  // Beyond the paper: the boundary groups that share a dark (or a light) component joined into one
+  // outline and fitted again (dark_outlines.hpp; quad_finder kThreshold, full resolution only), for
+  // small tags whose white ring or border broke into pieces. On in thorough(); off in the default
+  // profile, whose time it would push past the speed budget (+19 tags of 1384 on seed 1 for 13 % more
+  // time; in place of the coarse pass +10 on seed 1 but -9 on seed 2: docs/default-profile.md, session 26).
+  DarkOutlineOptions dark_outlines;
   // Beyond the paper: each threshold quad that did not decode is also read as a printed square (the
   // white ring classed with the border): the black square inside it is a further candidate
   // (printed_square.hpp; quad_finder kThreshold). Default profile on; paper(): off.
@@ -300,6 +310,7 @@ struct DetectorOptions {
   //   soft_decode             max_bit_errors 0..64; max_distance, min_gap, confidence_cap finite >= 0;
   //   ring_quads              min_size_px, min_hole finite >= 0; max_size_px, max_fill finite > 0;
   //   coarse_pass             min_contrast [0, 1]; min_tag_px finite >= 0;
+  //   dark_outlines           min_size_px finite >= 0, max_size_px finite > 0; 2 <= min_groups <= max_groups;
   //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
   //                           without; distortion only with a camera, finite;
   //   max_pixels              1..kMaxPixelsCeiling.

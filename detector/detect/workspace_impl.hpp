@@ -23,6 +23,7 @@ struct DetectorWorkspace::Impl {
   Clusters clusters;
   ThresholdQuadWorkspace threshold_quads;  // the threshold quad finder's buffers (default profile)
   ThresholdQuadWorkspace coarse;          // the coarse pass's (coarse_pass.hpp; half-size buffers)
+  DarkOutlineScratch dark_outlines;        // the joined outlines' (dark_outlines.hpp; off in every profile)
   LineQuadScratch line_quads;              // the line quads' (line_quads.hpp; off in both profiles)
   PhotometricWorkspace photometric;        // the photometric refinement's (default profile; per tag, not per pixel)
 };

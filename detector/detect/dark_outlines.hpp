@@ -1,0 +1,57 @@
+#pragma once
+// A dark component's whole outline (beyond AprilTag 2/3; issue 17, session 26: small tags of the
+// realistic set). Boundary groups are per pair of components (boundaries.hpp), so where the 1-cell
+// white ring of a 20-24 px tag is broken into pieces (blur, a darker card, noise), the black border's
+// outline is split among as many groups as there are ring pieces: each piece's group holds one or
+// two sides, and no group fits a quad. Here the groups that share a dark component are joined (their
+// points in group order) when the joined outline is of tag size, and the joined groups go through
+// the same fit as every group (fit_quads: one side's points, the outer outline, ...); the quads whose
+// centre no tag found so far covers are edge-refined on the image and decoded like every candidate.
+//
+// Coordinates: pixels of the image the groups were found on (doubled in BoundaryGroups); quads
+// clockwise on screen (quad_search.hpp).
+#include <span>
+#include <vector>
+
+#include "boundaries.hpp"
+#include "components.hpp"
+#include "edge_refine.hpp"
+#include "homography.hpp"
+#include "image.hpp"
+#include "outer_outline.hpp"
+#include "quad_fit.hpp"
+#include "quad_search.hpp"
+
+namespace tagbench {
+
+struct DarkOutlineOptions {
+  bool enabled = false;      // off here and in the default and paper profiles; thorough() turns it on
+  double min_size_px = 10;   // the joined groups' box: longer side at least this, >= 0
+  double max_size_px = 50;   // ... and at most this (px), > 0
+  int min_groups = 2;        // a dark component joined only when it has at least this many groups, >= 2
+  int max_groups = 8;        // ... and at most this many (a textured blob borders dozens), >= min_groups
+  // The outer outline's ring check (OuterOutlineOptions::ring_check) on the joined outlines: off, as
+  // the ring of these tags is the broken part (on: 8 of the 19 realistic tags more, seed 1).
+  bool ring_check = false;
+  bool by_light = true;      // also join the groups that share a light component (a border broken into pieces)
+  // Each joined outline fitted only by its outer outline (then its innermost outward outline), not by
+  // the whole chain of fit_quads (the whole group, one side, the occluded fit): a joined outline
+  // holds several outlines by construction.
+  bool outline_only = true;
+};
+
+struct DarkOutlineScratch {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_dark;  // (dark component, group)
+  BoundaryGroups joined;
+  std::vector<Quad> fitted;
+};
+
+// The quads of the joined outlines of `groups` (found with `components` on `img`), fitted with `fit`,
+// whose centre lies inside none of `covered`, each refined on `img` with `refine` (a quad whose
+// refinement fails is dropped). Throws std::invalid_argument when components and img differ in size.
+std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Components& components, const ImageF& img,
+                                     std::span<const Corners> covered, const QuadFitOptions& fit,
+                                     const EdgeRefineOptions& refine, const DarkOutlineOptions& opt,
+                                     QuadFitScratch& fit_scratch, DarkOutlineScratch& scratch);
+
+}  // namespace tagbench
