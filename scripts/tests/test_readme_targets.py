@@ -57,7 +57,15 @@ class RealisticRows(unittest.TestCase):
         with tempfile.TemporaryDirectory() as d:
             write(d, "realistic_summary.csv", SUMMARY + "realistic,1,36h11,2,20-24,20,24,tagbench-thorough,10,10,1.0,0\n")
             rows = readme_targets._realistic(d)
-            self.assertEqual(rows[1][1], "80 % (libapriltag d1 50 %; thorough profile 100 %)")
+            self.assertEqual(rows[1][1], "80 % (libapriltag d1 50 %; thorough profile 10 of 10, 100.0 %)")
+            self.assertEqual(rows[1][2], "not met")  # the target is the default profile's
+
+    def test_the_thorough_profiles_rate_is_not_rounded_up_to_the_target(self):
+        with tempfile.TemporaryDirectory() as d:
+            write(d, "realistic_summary.csv",
+                  SUMMARY + "realistic,1,36h11,2,20-24,20,24,tagbench-thorough,188,178,0.946809,0\n")
+            rows = readme_targets._realistic(d)
+            self.assertIn("thorough profile 178 of 188, 94.7 %", rows[1][1])
             self.assertEqual(rows[1][2], "not met")  # the target is the default profile's
 
 
