@@ -10,9 +10,12 @@
 
 #include "codes/tag_layout.hpp"
 #include "detect/blur.hpp"
+#include "detect/boundaries.hpp"
+#include "detect/components.hpp"
 #include "detect/homography.hpp"
 #include "detect/image.hpp"
 #include "detect/quad_search.hpp"
+#include "detect/threshold.hpp"
 
 namespace tagbench::synth {
 
@@ -104,5 +107,21 @@ inline double best_quad_match(const std::vector<Quad>& quads, const Corners& wan
     }
   return best;
 }
+
+// The threshold stage's first three steps on `img` at their defaults (dark 8-connected): the classes,
+// the components and the boundary groups, for tests of what is fitted to them.
+struct ThresholdPass {
+  ThresholdScratch th;
+  TernaryImage ternary;
+  ComponentScratch cs;
+  Components comp;
+  BoundaryScratch bs;
+  BoundaryGroups groups;
+  explicit ThresholdPass(const ImageF& img) {
+    adaptive_threshold(img, ThresholdOptions{}, th, ternary);
+    connected_components(ternary, cs, comp, true);
+    group_boundaries(ternary, comp, BoundaryOptions{}, bs, groups);
+  }
+};
 
 }  // namespace tagbench::synth

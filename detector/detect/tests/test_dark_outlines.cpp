@@ -30,19 +30,7 @@ ImageF broken_ring_image() {
   return img;
 }
 
-struct Pass {
-  ThresholdScratch th;
-  TernaryImage ternary;
-  ComponentScratch cs;
-  Components comp;
-  BoundaryScratch bs;
-  BoundaryGroups groups;
-  explicit Pass(const ImageF& img) {
-    adaptive_threshold(img, ThresholdOptions{}, th, ternary);
-    connected_components(ternary, cs, comp, true);
-    group_boundaries(ternary, comp, BoundaryOptions{}, bs, groups);
-  }
-};
+using Pass = synth::ThresholdPass;
 
 // The largest distance from a corner of q to the nearest corner of the square.
 double corner_error(const Quad& q, const Corners& want) {

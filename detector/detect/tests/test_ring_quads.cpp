@@ -30,19 +30,7 @@ ImageF ring_image(int size, double cx, double cy, double outer, double width, fl
   return img;
 }
 
-struct Pass {
-  ThresholdScratch th;
-  TernaryImage ternary;
-  ComponentScratch cs;
-  Components comp;
-  BoundaryScratch bs;
-  BoundaryGroups groups;
-  explicit Pass(const ImageF& img) {
-    adaptive_threshold(img, ThresholdOptions{}, th, ternary);
-    connected_components(ternary, cs, comp, true);
-    group_boundaries(ternary, comp, BoundaryOptions{}, bs, groups);
-  }
-};
+using Pass = synth::ThresholdPass;
 
 }  // namespace
 
