@@ -3,10 +3,14 @@
 // realistic set). Boundary groups are per pair of components (boundaries.hpp), so where the 1-cell
 // white ring of a 20-24 px tag is broken into pieces (blur, a darker card, noise), the black border's
 // outline is split among as many groups as there are ring pieces: each piece's group holds one or
-// two sides, and no group fits a quad. Here the groups that share a dark component are joined (their
-// points in group order) when the joined outline is of tag size, and the joined groups go through
-// the same fit as every group (fit_quads: one side's points, the outer outline, ...); the quads whose
-// centre no tag found so far covers are edge-refined on the image and decoded like every candidate.
+// two sides, and no group fits a quad; where the border broke instead and the ring is whole, the
+// same with the roles swapped. Here the groups that share a dark component (and, by_light, those that
+// share a light one) are joined (their points in group order) when the joined outline is of tag size,
+// and each joined group is fitted by its outer outline, then its innermost outward outline
+// (outline_only; else by the whole chain of fit_quads); the quads whose centre no tag found so far
+// covers are edge-refined on the image and decoded like every candidate. On in the thorough profile
+// (realistic seeds 1 / 2: +9 / +5 tags, 20-24 px +1 / +2, 7 % more time; docs/default-profile.md,
+// session 26).
 //
 // Coordinates: pixels of the image the groups were found on (doubled in BoundaryGroups); quads
 // clockwise on screen (quad_search.hpp).
