@@ -45,9 +45,10 @@ struct DarkOutlineOptions {
 };
 
 struct DarkOutlineScratch {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_dark;  // (dark component, group)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> by_component;  // (component, group)
   BoundaryGroups joined;
   std::vector<Quad> fitted;
+  EdgeRefineScratch refine;
 };
 
 // The quads of the joined outlines of `groups` (found with `components` on `img`), fitted with `fit`,

@@ -243,6 +243,20 @@ Quad fitted_quad(const Corners& corners) {
   return q;
 }
 
+std::optional<Corners> fit_outline(std::span<const BoundaryPoint> outline, const ImageF& img, const QuadFitOptions& opt,
+                                   QuadFitScratch& s) {
+  auto c = fit_quad(outline, img, opt, s);
+  if (c && opt.outer.ring_check && !outline_has_ring(*c, img, opt.outer)) c.reset();
+  return c;
+}
+
+std::optional<Corners> fit_innermost_outline(const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s) {
+  const std::size_t also_outer = inner_outline_points(opt.outer, s.outer, s.side);
+  if (s.side.size() < 8 || static_cast<double>(also_outer) >= 0.8 * static_cast<double>(s.side.size()))
+    return std::nullopt;
+  return fit_outline(s.side, img, opt, s);
+}
+
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s,
                std::vector<Quad>& out) {
   for (std::size_t g = 0; g < groups.count(); ++g) {
@@ -270,19 +284,12 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
       outer_outline_points(group, opt.outer, s.outer, s.side, static_cast<std::size_t>(std::max(opt.min_points, 4)));
       const double dropped = 1.0 - static_cast<double>(s.side.size()) / static_cast<double>(group.size());
       if (c ? dropped >= opt.outer.min_dropped : s.side.size() < group.size()) {
-        auto o = fit_quad(s.side, img, opt, s);
-        if (o && opt.outer.ring_check && !outline_has_ring(*o, img, opt.outer)) o.reset();
+        const auto o = fit_outline(s.side, img, opt, s);
         if (!c) c = o;
         else if (o && max_corner_distance(*o, *c) > opt.outer.min_corner_change_px) second = o;
       }
       // Still nothing: the innermost outward outline (a square whose border ran into a darker plate).
-      if (!c && opt.outer.innermost) {
-        const std::size_t also_outer = inner_outline_points(opt.outer, s.outer, s.side);
-        if (s.side.size() >= 8 && static_cast<double>(also_outer) < 0.8 * static_cast<double>(s.side.size())) {
-          c = fit_quad(s.side, img, opt, s);
-          if (c && opt.outer.ring_check && !outline_has_ring(*c, img, opt.outer)) c.reset();
-        }
-      }
+      if (!c && opt.outer.innermost) c = fit_innermost_outline(img, opt, s);
     }
     for (const auto& corners : {c, second})
       if (corners) out.push_back(fitted_quad(*corners));

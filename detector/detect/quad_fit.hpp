@@ -101,6 +101,17 @@ void one_side_points(std::span<const BoundaryPoint> group, bool outward, std::ve
 // A fitted quad as a candidate: these corners, segments -1, observed_perimeter their perimeter.
 Quad fitted_quad(const Corners& corners);
 
+// The outline fallbacks' fit (fit_quads; dark_outlines.hpp): fit_quad on `outline` (e.g. the points
+// outer_outline_points left in s.side), refused unless it passes outline_has_ring when
+// opt.outer.ring_check.
+std::optional<Corners> fit_outline(std::span<const BoundaryPoint> outline, const ImageF& img, const QuadFitOptions& opt,
+                                   QuadFitScratch& s);
+// The innermost outward outline of the group of the last outer_outline_points call on s.outer (into
+// s.side, inner_outline_points) fitted by fit_outline, when it holds at least 8 points of which under
+// 80 % are also on the outer outline (else it is the same outline again): a square whose border ran
+// into a darker plate.
+std::optional<Corners> fit_innermost_outline(const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s);
+
 // Every group's quad appended to `out` (observed_perimeter = the quad's perimeter, segments = -1).
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& scratch,
                std::vector<Quad>& out);
