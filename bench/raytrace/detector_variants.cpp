@@ -156,6 +156,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "dq_ring") o.dark_outlines.ring_check = x != 0;
     else if (k == "dq_light") o.dark_outlines.by_light = x != 0;
     else if (k == "dq_outline") o.dark_outlines.outline_only = x != 0;
+    else if (k == "rchk") o.threshold_quads.refine_check.enabled = x != 0;
     else if (k == "coarse") o.coarse_pass.enabled = x != 0;
     else if (k == "coarse_contrast") o.coarse_pass.min_contrast = static_cast<float>(x);
     else if (k == "coarse_lowc") o.coarse_pass.low_contrast = x != 0;

@@ -103,6 +103,13 @@ std::vector<HiddenSides> refit_occluded(std::vector<Detection>& dets, const Imag
 Detector::Detector(DetectorOptions options) : opt_(std::move(options)), find_quads_(&find_quads_in_image) {
   for (const auto& f : opt_.families) families_.push_back(load_family(f));
   opt_.validate(families_);
+  // The refinement's border check (ThresholdQuadOptions::refine_check) asks what the decoder's
+  // pre-filter will: the thinnest rings of the families searched, the payload's contrast floor.
+  auto& check = opt_.threshold_quads.refine_check;
+  check.payload_width = 1;
+  for (const TagFamily& f : families_) check.payload_width = std::max(check.payload_width, f.payload_width());
+  check.min_contrast = opt_.payload.min_contrast;
+  check.enabled = check.enabled && opt_.payload.quick_reject && opt_.decode_sigma == 0;  // the image it reads
   if (opt_.quad_finder == QuadFinderKind::kThreshold) find_quads_ = &find_threshold_quads_in_image;
 }
 

@@ -59,6 +59,8 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   finite_at_least("threshold_quads.blur_sigma", q.blur_sigma, 0);
   int_within("threshold_quads.threshold.tile_size", q.threshold.tile_size, 1, 256);
   within("threshold_quads.threshold.min_contrast", q.threshold.min_contrast, 0, 1);
+  int_within("threshold_quads.refine_check.payload_width", q.refine_check.payload_width, 1, 8);
+  within("threshold_quads.refine_check.min_contrast", q.refine_check.min_contrast, 0, 1);
   within("threshold_quads.threshold.low_contrast", q.threshold.low_contrast, 0, 1);
   finite_at_least("threshold_quads.threshold.weber_ratio", q.threshold.weber_ratio, 0);
   finite_at_least("threshold_quads.threshold.mean_sigma", q.threshold.mean_sigma, 0);

@@ -94,11 +94,6 @@ std::optional<Eigen::Matrix3d> tag_homography(const Corners& image_corners) {
   return homography_dlt(tag_square_corners(), image_corners);
 }
 
-Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
-  const Eigen::Vector3d q = H * p.homogeneous();
-  return q.hnormalized();
-}
-
 Corners printed_corners(const Corners& quad, int rotation) {
   Corners c;
   for (int i = 0; i < 4; ++i) c[static_cast<std::size_t>(i)] = quad[static_cast<std::size_t>((i + rotation) % 4)];

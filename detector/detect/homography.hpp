@@ -13,6 +13,7 @@
 #include <utility>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // homogeneous(), hnormalized()
 
 namespace tagbench {
 
@@ -29,7 +30,11 @@ std::optional<Eigen::Matrix3d> homography_dlt(std::span<const Eigen::Vector2d> f
 std::optional<Eigen::Matrix3d> tag_homography(const Corners& image_corners);
 
 // H applied to a point, with the homogeneous division.
-Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d& p);
+// Inline: the payload readers map hundreds of points per quad through it.
+inline Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::Vector2d& p) {
+  const Eigen::Vector3d q = H * p.homogeneous();
+  return q.hnormalized();
+}
 
 // Whether p lies inside the convex quad q (either winding); a point on a side counts as inside.
 bool inside_quad(const Corners& q, const Eigen::Vector2d& p);

@@ -12,11 +12,33 @@
 namespace tagbench {
 namespace {
 
+// Whether every sample of the (d+4) x (d+4) grid maps inside the image (sample_bilinear's domain)
+// under H: the samples lie in a square of tag coordinates whose corners H maps in front of the camera
+// (w > 0) and inside the image; w is affine, so positive over the whole square, and H maps that
+// convex square onto the convex quad of those four images, inside the (convex) image rectangle.
+bool whole_grid_inside(const ImageF& img, const Eigen::Matrix3d& H, int d, const PayloadAreaOptions& opt) {
+  if (img.empty() || d < 1 || d > 8 || opt.samples_per_side < 1 || !(opt.sample_extent >= 0)) return false;
+  const double cell = 2.0 / (d + 2), k = opt.samples_per_side;
+  // The outermost samples: the white ring's cell centres, +-(1 + cell / 2), offset by (0.5 - 0.5 / k)
+  // of the sampled extent; a hair more for rounding.
+  const double r = 1 + 0.5 * cell + (0.5 - 0.5 / k) * opt.sample_extent * cell + 1e-9;
+  for (const double sx : {-r, r})
+    for (const double sy : {-r, r}) {
+      const Eigen::Vector3d q = H * Eigen::Vector3d(sx, sy, 1);
+      if (!(q.z() > 0)) return false;
+      const double x = q.x() / q.z(), y = q.y() / q.z();
+      if (!(x >= 1e-6 && y >= 1e-6 && x <= img.width - 1 - 1e-6 && y <= img.height - 1 - 1e-6)) return false;
+    }
+  return true;
+}
+
 // The cells of a reading through any map of tag coordinates to the image (a homography, or a folded
 // tag's two): `grid` the (d+4)^2 cell means (NaN off the image), `payload` the d x d sharpened values.
+// `inside`: the caller knows every sample lands inside the image (whole_grid_inside), so none is
+// tested; the values are the same as with the test.
 template <class Map>
 bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt, std::vector<double>& grid,
-                std::vector<double>& payload) {
+                std::vector<double>& payload, bool inside = false) {
   if (d < 1 || d > 8 || opt.samples_per_side < 1 || !(opt.sample_extent >= 0)) return false;
   const int n = d + 4, k = opt.samples_per_side;
   const double cell = 2.0 / (d + 2);
@@ -31,7 +53,12 @@ bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptio
         for (int i = 0; i < k && ok; ++i) {
           const double ox = ((i + 0.5) / k - 0.5) * opt.sample_extent * cell;
           const double oy = ((j + 0.5) / k - 0.5) * opt.sample_extent * cell;
-          const auto v = sample_bilinear(img, map(Eigen::Vector2d(centre(gx) + ox, centre(gy) + oy)));
+          const Eigen::Vector2d p = map(Eigen::Vector2d(centre(gx) + ox, centre(gy) + oy));
+          if (inside) {
+            sum += sample_bilinear_inside(img, p);
+            continue;
+          }
+          const auto v = sample_bilinear(img, p);
           if (!v) ok = false;
           else sum += *v;
         }
@@ -70,9 +97,9 @@ bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptio
 // The ring models' reading (read_payload_area).
 template <class Map>
 std::optional<PayloadReading> read_area(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt,
-                                        bool keep_points) {
+                                        bool keep_points, bool inside = false) {
   std::vector<double> grid, payload;
-  if (!area_cells(img, map, d, opt, grid, payload)) return std::nullopt;
+  if (!area_cells(img, map, d, opt, grid, payload, inside)) return std::nullopt;
   auto r = decide_cells(grid, payload, d, opt.min_contrast);
   if (r && keep_points) add_sample_points(grid, d, map, *r);
   return r;
@@ -140,7 +167,8 @@ std::optional<PayloadReading> read_payload_self_threshold(const ImageF& img, con
 
 std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::Matrix3d& H, int d,
                                                 const PayloadAreaOptions& opt, bool keep_points) {
-  return read_area(img, [&](const Eigen::Vector2d& u) { return apply_homography(H, u); }, d, opt, keep_points);
+  return read_area(img, [&](const Eigen::Vector2d& u) { return apply_homography(H, u); }, d, opt, keep_points,
+                   whole_grid_inside(img, H, d, opt));
 }
 
 std::optional<PayloadReading> read_payload_area(const ImageF& img, const TagToImage& map, int d,

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "detect/blur.hpp"
+#include "detect/payload_decode.hpp"  // border_contrast_plausible
 #include "detect/stage_clock.hpp"
 
 namespace tagbench {
@@ -26,8 +27,12 @@ void refine_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, 
                             EdgeRefineScratch& scratch) {
   EdgeRefineOptions r = opt.refine;
   if (threshold_quads_halved(img, opt)) r.min_range_px = std::max(r.min_range_px, 2.0);
-  for (Quad& q : quads)
+  for (Quad& q : quads) {
+    if (opt.refine_check.enabled &&
+        !border_contrast_plausible(img, q.corners, opt.refine_check.payload_width, opt.refine_check.min_contrast))
+      continue;
     if (const auto c = refine_quad_edges(img, q.corners, r, scratch)) q.corners = *c;
+  }
 }
 
 void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, ThresholdQuadWorkspace& ws,

@@ -40,6 +40,17 @@ struct ThresholdQuadOptions {
   QuadFitOptions fit;      // fit.min_tag_width is in full-resolution pixels (halved internally, >= 3)
   bool refine_edges = true;  // refit the sides on the full-resolution image (edge_refine.hpp)
   EdgeRefineOptions refine;  // min_range_px is raised to 2 px when halving (one half-size pixel either side)
+  // Beyond AprilTag 3, for speed: with enabled, a quad (of the pass, its low-contrast look or the
+  // coarse pass) whose border does not look like a tag's (border_contrast_plausible, payload_decode.hpp,
+  // with this payload width and contrast floor) is left as fitted instead of refined: the decoder's
+  // pre-filter (PayloadOptions::quick_reject) refuses it by the same test. Off here; on in the
+  // default profile. The Detector sets payload_width to its families' largest and min_contrast to
+  // PayloadOptions::min_contrast, and turns the check off without quick_reject.
+  struct RefineCheck {
+    bool enabled = false;
+    int payload_width = 6;      // 1..8
+    double min_contrast = 0.02;  // [0, 1]
+  } refine_check;
   // A second threshold pass for faint small tags (low_contrast_quads.hpp); off here, the default
   // profile's value is in detector.hpp.
   LowContrastPassOptions low_contrast;
