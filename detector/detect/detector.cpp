@@ -258,7 +258,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                                  opt_.ring_quads, tq.fit);
     decode_printed(rings, std::vector<bool>(rings.size(), true));
   }
-  if (opt_.line_quads.enabled && opt_.quad_finder == QuadFinderKind::kThreshold) {
+  if (opt_.line_quads.enabled && opt_.quad_finder == QuadFinderKind::kThreshold &&
+      (!opt_.half_resolution || opt_.line_quads.at_half_resolution)) {
     // line_quads.hpp: quads of straight edges where no tag was found, each read as the black square,
     // then (those still uncovered) as printed squares; each refined before reading or, when its
     // refine_black / refine_inner option is off, only the tags it gives, after reading.

@@ -178,8 +178,9 @@ DetectorOptions DetectorOptions::paper() {
 
 DetectorOptions DetectorOptions::thorough() {
   DetectorOptions o;
+  o.line_quads = LineQuadOptions{};  // the edges at full resolution, with the options' own defaults
   o.line_quads.enabled = true;
-  o.dark_outlines.enabled = true;
+  o.coarse_pass.enabled = true;
   return o;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The detector's options (detector.hpp): which quad finder and payload reader, every stage's options
 // with its documented default, and the three profiles (DetectorOptions{} the default profile,
-// paper() sections III-IV exactly, thorough() the default plus the line quads and joined outlines). validate() (in
+// paper() sections III-IV exactly, thorough() the default with full-resolution line quads and the
+// coarse pass). validate() (in
 // detector_options.cpp) names the first field out of range. Units and conventions as detector.hpp.
 #include <optional>
 #include <span>
@@ -92,7 +93,29 @@ inline ThresholdQuadOptions default_profile_threshold_quads() {
   // Regions up to 64 px (+ 2 windows; 48 until session 20, measured together with the second look up
   // to 80 px: see default_profile_second_look).
   q.low_contrast.max_size_px = 64;
+  // Quads the decoder's border pre-filter will refuse are not refined first (session 27): realistic
+  // seeds 1 and 2 (200 frames) the same tags (one corner from another duplicate quad), about 3 % less
+  // time.
+  q.refine_check.enabled = true;
   return q;
+}
+
+// The line quads' options in the default profile (DetectorOptions::line_quads; session 27): the
+// edges found on the 2 x 2-averaged image, from seeds with aligned pixels 3 px along their edge on
+// both sides (segments.straight_seeds_only, straight_sides 2), each quad's border pre-filtered before
+// it is refined, and not at half resolution. In place of the coarse pass, with the joined outlines
+// (dark_outlines), on the realistic set (200 frames, seeds 1 / 2 / 3, a holdout): 1059 -> 1098,
+// 1035 -> 1046, 1132 -> 1147 tags; 20-24 px 165 -> 170 of 188, 173 -> 176 of 214, 210 -> 212 of 251;
+// no wrong id; about 9 % more time there (docs/default-profile.md, session 27).
+inline LineQuadOptions default_profile_line_quads() {
+  LineQuadOptions o;
+  o.enabled = true;
+  o.scale = 0.5;
+  o.segments.straight_seeds_only = true;
+  o.segments.straight_sides = 2;
+  o.check_before_refining = true;
+  o.at_half_resolution = false;
+  return o;
 }
 
 // The second look's options in the default profile (DetectorOptions::second_look).
@@ -119,21 +142,21 @@ inline int bits_corrected_for(int min_hamming, int max_hamming, bool hamming_by_
 // payload reader and the photometric corner refinement (chosen by measurement, README "Default
 // profile"). DetectorOptions::paper() is the paper's detector (sections III-IV) exactly as the
 // reproduction of its experiments uses it. DetectorOptions::thorough() is the default profile with
-// the line quads (line_quads.hpp) and the joined dark outlines (dark_outlines.hpp) on: more of the
-// small, faint tags of photographs for about twice the default profile's time (README, "The thorough
-// profile").
+// the line quads (line_quads.hpp) on the full-resolution image and the coarse pass (coarse_pass.hpp):
+// more of the small, faint tags of photographs for about twice the default profile's time (README,
+// "The thorough profile").
 struct DetectorOptions {
   // The paper's detector: the gradient quad finder and point payload reading, no photometric
   // refinement, every other field at
   // its default (which is the paper's value, or off for the additions that keep the paper's
   // results). Every paper experiment (Figs. 6, 7, 9, 10; tagbench-paper in the comparisons) uses it.
   static DetectorOptions paper();
-  // The default profile plus quads from straight edges (line_quads.enabled): on the realistic set,
-  // 20-24 px tags 87 % -> 94 %, at 2.1 x the default profile's time (1.6 x libapriltag at decimate 1;
-  // docs/default-profile.md, sessions 22-24); and the joined dark outlines (dark_outlines.enabled,
-  // session 26: seed 1 1120 -> 1129 tags, 20-24 px 177 -> 178; seed 2 1077 -> 1082, 185 -> 187; 7 %
-  // more time). The edges are found at full resolution (line_quads.scale
-  // 1) whatever half_resolution says: with it, only the threshold stage runs at half size.
+  // The default profile with quads from straight edges found on the full-resolution image
+  // (line_quads with LineQuadOptions' own defaults: scale 1, every seed, refined before reading):
+  // on the realistic set, 20-24 px tags 87 % -> 94 %, at 2.1 x the default profile's time of session
+  // 24 (docs/default-profile.md, sessions 22-24); and the coarse pass (coarse_pass.enabled), which the
+  // default profile gave up for its half-size line quads in session 27. The edges are found at full
+  // resolution whatever half_resolution says: with it, only the threshold stage runs at half size.
   static DetectorOptions thorough();
   // A profile by its name, as the command line and Python name it: "default" (DetectorOptions{}),
   // "thorough" or "paper"; nullopt for any other name.
@@ -191,18 +214,19 @@ struct DetectorOptions {
   GroupLookOptions group_look;
   // Beyond the paper: the threshold stage again on the half-size image with a lower contrast floor,
   // for larger tags of low contrast; its quads that no tag found so far covers are decoded after
-  // the second look (coarse_pass.hpp; quad_finder kThreshold, full resolution only). Default profile
-  // on; paper(): off. Realistic set (200 frames): seed 1 1045 -> 1059 of 1384 tags (20-24 px 164 ->
-  // 165 of 188), seed 2 1013 -> 1035 (170 -> 173 of 214), none lost, no wrong id; about 20 % more
-  // time there and on the corpus, whose 16h5 false detections went 0.204 -> 0.210 an image (36h11
-  // still none) (issue 17, session 25; docs/default-profile.md).
-  CoarsePassOptions coarse_pass{.enabled = true};
+  // the second look (coarse_pass.hpp; quad_finder kThreshold, full resolution only). On in
+  // thorough(); off in paper() and, since session 27, in the default profile, whose half-size line
+  // quads and joined outlines find more for its time (docs/default-profile.md). Realistic set (200
+  // frames, session 25): seed 1 1045 -> 1059 of 1384 tags (20-24 px 164 -> 165 of 188), seed 2
+  // 1013 -> 1035 (170 -> 173 of 214), none lost, no wrong id; about 20 % more time there and on the
+  // corpus (issue 17, session 25).
+  CoarsePassOptions coarse_pass;
   // Beyond the paper: the boundary groups that share a dark (or a light) component joined into one
   // outline and fitted again (dark_outlines.hpp; quad_finder kThreshold, full resolution only), for
-  // small tags whose white ring or border broke into pieces. On in thorough(); off in the default
-  // profile, whose time it would push past the speed budget (+19 tags of 1384 on seed 1 for 13 % more
-  // time; in place of the coarse pass +10 on seed 1 but -9 on seed 2: docs/default-profile.md, session 26).
-  DarkOutlineOptions dark_outlines;
+  // small tags whose white ring or border broke into pieces. On in the default profile (since session
+  // 27, with the half-size line quads in place of the coarse pass) and thorough(); paper(): off. Alone
+  // in the default of session 26: +19 tags of 1384 on seed 1 for 13 % more time (docs/default-profile.md).
+  DarkOutlineOptions dark_outlines{.enabled = true};
   // Beyond the paper: each threshold quad that did not decode is also read as a printed square (the
   // white ring classed with the border): the black square inside it is a further candidate
   // (printed_square.hpp; quad_finder kThreshold). Default profile on; paper(): off.
@@ -213,9 +237,10 @@ struct DetectorOptions {
   RingQuadOptions ring_quads{.enabled = true};
   // Beyond the paper: quads of straight edges (line_segments.hpp, LSD's method) where no tag was
   // found, read as black squares and as printed squares (line_quads.hpp; quad_finder kThreshold).
-  // Off in both profiles: on the realistic set it finds the most small tags of any step, but its
-  // edge pass costs about as much as the rest of the detector (docs/default-profile.md, session 22).
-  LineQuadOptions line_quads;
+  // Default profile: the edges of the half-size image, cheaper seeds (default_profile_line_quads);
+  // thorough(): the full-resolution image, whose edge pass costs about as much as the rest of the
+  // detector (docs/default-profile.md, sessions 22-27); paper(): off.
+  LineQuadOptions line_quads = default_profile_line_quads();
   // Beyond the paper: a quad whose reading no family decodes within its corrected bits is decoded
   // soft (soft_decode.hpp): the codeword likeliest under the cells' signed confidences, accepted only
   // by a likelihood-ratio rule calibrated to give no false detection of 36h11 on the corpus, and only

@@ -1,6 +1,6 @@
 #pragma once
-// Beyond the paper and AprilTag 3 (off in both profiles; measured in docs/default-profile.md,
-// session 22): candidate quads from straight edges (line_segments.hpp, LSD's method) joined by the
+// Beyond the paper and AprilTag 3 (off in paper(); in the default profile on the half-size image,
+// in thorough() at full resolution; measured in docs/default-profile.md, sessions 22-27): candidate quads from straight edges (line_segments.hpp, LSD's method) joined by the
 // paper's quad search (quad_search.hpp). A small tag whose white ring is broken or classed with its
 // border has no outline among the threshold stage's boundary groups, yet its four sides are short
 // straight edges that region growing on gradient directions still finds whole.
@@ -38,6 +38,9 @@ struct LineQuadOptions {
   // The edges found on the image resampled to this scale (in (0, 1]; 1: as it is; 0.5: its 2 x 2
   // average), their ends mapped back; the quads are then read and refined at full resolution.
   double scale = 1;
+  // Also when the detector runs at half resolution (DetectorOptions::half_resolution; the quads still
+  // from the edges at `scale` of the full image). The default profile: off.
+  bool at_half_resolution = true;
   LineSegmentOptions segments;
 };
 

@@ -52,10 +52,10 @@ TEST(CoarsePass, SkipsCoveredAndNarrowQuads) {
   EXPECT_GT(synth::best_quad_match(coarse_pass_quads(img, d.threshold_quads, {}, wide, ws), c), 3.0);
 }
 
-// The detector option: on in the default profile (and so in the thorough one), off in the paper's;
-// validated like every other.
-TEST(CoarsePass, OnInTheDefaultProfileOffInThePapersAndValidated) {
-  EXPECT_TRUE(DetectorOptions{}.coarse_pass.enabled);
+// The detector option: on in the thorough profile, off in the default (since session 27) and the
+// paper's; validated like every other.
+TEST(CoarsePass, OnInTheThoroughProfileOnlyAndValidated) {
+  EXPECT_FALSE(DetectorOptions{}.coarse_pass.enabled);
   EXPECT_TRUE(DetectorOptions::thorough().coarse_pass.enabled);
   EXPECT_FALSE(DetectorOptions::paper().coarse_pass.enabled);
   EXPECT_FALSE(CoarsePassOptions{}.enabled);

@@ -88,9 +88,9 @@ TEST(DarkOutlines, ComponentsOfAnotherImageAreRefused) {
                std::invalid_argument);
 }
 
-// The thorough profile joins the outlines; the default and paper profiles do not.
-TEST(DarkOutlines, OnlyInTheThoroughProfile) {
-  EXPECT_FALSE(DetectorOptions{}.dark_outlines.enabled);
+// The default and thorough profiles join the outlines; the paper's does not.
+TEST(DarkOutlines, InTheDefaultAndThoroughProfilesNotThePapers) {
+  EXPECT_TRUE(DetectorOptions{}.dark_outlines.enabled);
   EXPECT_FALSE(DetectorOptions::paper().dark_outlines.enabled);
   EXPECT_TRUE(DetectorOptions::thorough().dark_outlines.enabled);
 }

@@ -61,9 +61,11 @@ TEST(LineQuads, SkipsCoveredAndLargeQuads) {
   EXPECT_LT(synth::best_quad_match(line_quads(img, {}, on(24), s), c), 1.0);
 }
 
-// The detector option: off in both profiles, validated like every other.
-TEST(LineQuads, OnOnlyInTheThoroughProfileAndValidated) {
-  EXPECT_FALSE(DetectorOptions{}.line_quads.enabled);
+// The detector option: on in the default profile (half-size edges, not at half resolution) and the
+// thorough one, off in the paper's; validated like every other.
+TEST(LineQuads, OnInTheDefaultAndThoroughProfilesAndValidated) {
+  EXPECT_TRUE(DetectorOptions{}.line_quads.enabled);
+  EXPECT_FALSE(DetectorOptions{}.line_quads.at_half_resolution);
   EXPECT_FALSE(DetectorOptions::paper().line_quads.enabled);
   EXPECT_TRUE(DetectorOptions::thorough().line_quads.enabled);
   DetectorOptions o;
@@ -99,6 +101,32 @@ TEST(LineQuads, DetectorWithLineQuadsReportsAPlainTagOnce) {
   const auto found = det.detect(img);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_EQ(found[0].id, 7);
+}
+
+// LineQuadOptions::at_half_resolution: off (the default profile's), a half-resolution run reads no
+// line quad, so it reads the quads of the same run without them; on, it reads more (the outline of a
+// plain dark square beside the tag, which no tag covers).
+TEST(LineQuads, AtHalfResolutionOnlyWhenAsked) {
+  const Corners c = synth::square_tag_corners(60, 60, 40, 0.3);
+  const TagFamily fam = load_family("36h11");
+  ImageF img = synth::render_tag(200, 120, tag_cells(fam, 7), synth::homography_for(c));
+  for (int y = 45; y < 75; ++y)
+    for (int x = 135; x < 165; ++x) img.at(x, y) = 0.15f;
+  const auto reads = [&](const DetectorOptions& o) {
+    DetectorTrace trace;
+    const auto found = Detector(o).detect(img, &trace);
+    EXPECT_EQ(found.size(), 1u);
+    return trace.quad_outcomes.size();
+  };
+  DetectorOptions o;
+  o.half_resolution = true;
+  ASSERT_FALSE(o.line_quads.at_half_resolution);
+  DetectorOptions none = o;
+  none.line_quads.enabled = false;
+  DetectorOptions asked = o;
+  asked.line_quads.at_half_resolution = true;
+  EXPECT_EQ(reads(o), reads(none));
+  EXPECT_GT(reads(asked), reads(o));
 }
 
 }  // namespace test_line_quads

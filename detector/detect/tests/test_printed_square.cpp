@@ -56,6 +56,8 @@ TEST(PrintedSquare, DetectorFindsATagWhoseRingIsDarkerThanItsCard) {
   DetectorOptions opt;
   opt.second_look.enabled = false;
   opt.code_refit.enabled = false;
+  opt.line_quads.enabled = false;
+  opt.dark_outlines.enabled = false;
   opt.printed_square.enabled = false;
   EXPECT_TRUE(Detector(opt).detect(img).empty());
   opt.printed_square.enabled = true;

@@ -74,17 +74,24 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   d.validate();
 }
 
-// The thorough profile is the default with the line quads on, nothing else changed: with them off
-// again it detects exactly what the default does.
-TEST(Profiles, ThoroughIsTheDefaultWithLineQuads) {
+// The thorough profile is the default with its line quads at full resolution (LineQuadOptions' own
+// defaults) and the coarse pass on, nothing else changed: with those set back it detects exactly
+// what the default does.
+TEST(Profiles, ThoroughIsTheDefaultWithFullResolutionLineQuadsAndTheCoarsePass) {
   const DetectorOptions t = DetectorOptions::thorough(), d;
   EXPECT_TRUE(t.line_quads.enabled);
-  EXPECT_FALSE(d.line_quads.enabled);
+  EXPECT_TRUE(d.line_quads.enabled);
   EXPECT_EQ(t.line_quads.scale, 1.0);
+  EXPECT_EQ(d.line_quads.scale, 0.5);
+  EXPECT_FALSE(d.line_quads.at_half_resolution);
+  EXPECT_TRUE(t.line_quads.at_half_resolution);
+  EXPECT_TRUE(t.coarse_pass.enabled);
+  EXPECT_FALSE(d.coarse_pass.enabled);
   t.validate();
-  DetectorOptions off = t;
-  off.line_quads.enabled = false;
-  const Detector a(d), b(off), c(t);
+  DetectorOptions back = t;
+  back.line_quads = d.line_quads;
+  back.coarse_pass.enabled = false;
+  const Detector a(d), b(back), c(t);
   int found = 0, total = 0;
   for (std::uint32_t seed = 1; seed <= 2; ++seed) {
     const Scene s = small_tags(14.0, seed);
@@ -103,9 +110,9 @@ TEST(Profiles, ThoroughIsTheDefaultWithLineQuads) {
 
 // The names the command line and Python use.
 TEST(Profiles, NamedProfiles) {
-  EXPECT_EQ(DetectorOptions::named_profile("default")->line_quads.enabled, false);
+  EXPECT_EQ(DetectorOptions::named_profile("default")->line_quads.scale, 0.5);
   EXPECT_EQ(DetectorOptions::named_profile("default")->quad_finder, QuadFinderKind::kThreshold);
-  EXPECT_EQ(DetectorOptions::named_profile("thorough")->line_quads.enabled, true);
+  EXPECT_EQ(DetectorOptions::named_profile("thorough")->line_quads.scale, 1.0);
   EXPECT_EQ(DetectorOptions::named_profile("paper")->quad_finder, QuadFinderKind::kGradient);
   EXPECT_FALSE(DetectorOptions::named_profile("fast").has_value());
   EXPECT_FALSE(DetectorOptions::named_profile("").has_value());

@@ -5,6 +5,7 @@
 
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
+#include "detect/detector.hpp"
 #include "detect/quad_fit.hpp"
 #include "detect/threshold_quads.hpp"
 #include "synthetic.hpp"
@@ -52,6 +53,45 @@ TEST(QuadFit, FindsARotatedSquareClockwiseToAFractionOfAPixel) {
   find_threshold_quads(img, opt, ws, quads);
   ASSERT_EQ(quads.size(), 1u);
   EXPECT_LT(corner_error(quads[0].corners, truth), 0.25);
+}
+
+// ThresholdQuadOptions::refine_check: a quad whose border passes the decoder's pre-filter is refined
+// as without the check; one it refuses (a floor above the square's contrast) is left as fitted.
+// The Detector fills the check from its families and PayloadOptions.
+TEST(QuadFit, RefineCheckLeavesOnlyImplausibleBordersUnrefined) {
+  const Corners truth = tilted(40.3, 35.7, 14, 0.35);
+  const ImageF img = scene(truth, 80, 70);
+  ThresholdQuadWorkspace ws;
+  std::vector<Quad> fitted, refined, checked;
+  ThresholdQuadOptions opt;
+  opt.refine_edges = false;
+  find_threshold_quads(img, opt, ws, fitted);
+  opt.refine_edges = true;
+  find_threshold_quads(img, opt, ws, refined);
+  opt.refine_check.enabled = true;
+  find_threshold_quads(img, opt, ws, checked);
+  ASSERT_EQ(fitted.size(), 1u);
+  ASSERT_EQ(checked.size(), 1u);
+  ASSERT_EQ(refined.size(), 1u);
+  EXPECT_NE(refined[0].corners, fitted[0].corners);
+  EXPECT_EQ(checked[0].corners, refined[0].corners);
+  opt.refine_check.min_contrast = 0.9;  // the square's contrast is 0.7
+  find_threshold_quads(img, opt, ws, checked);
+  ASSERT_EQ(checked.size(), 1u);
+  EXPECT_EQ(checked[0].corners, fitted[0].corners);
+
+  DetectorOptions o;
+  o.families = {"16h5"};
+  o.payload.min_contrast = 0.05;
+  const Detector det(o);
+  const auto& c = det.options().threshold_quads.refine_check;
+  EXPECT_TRUE(c.enabled);
+  EXPECT_EQ(c.payload_width, 4);
+  EXPECT_EQ(c.min_contrast, 0.05);
+  o.families = {"16h5", "36h11"};
+  EXPECT_EQ(Detector(o).options().threshold_quads.refine_check.payload_width, 6);
+  o.payload.quick_reject = false;
+  EXPECT_FALSE(Detector(o).options().threshold_quads.refine_check.enabled);
 }
 
 TEST(QuadFit, PerspectiveQuadAndHalvedStage) {
