@@ -55,8 +55,8 @@ generation_seconds. A quad is accepted at k when the nearest code (any rotation)
 
 detectors: whole detectors at their defaults on every image of the corpus (DIR/manifest.tsv, or
 every image under DIR), one family at a time: tagbench (ours, default profile: bits corrected by family,
-16h5 1, 25h9 2, 36h11 3), tagbench-thorough (the thorough profile: the default plus quads from
-straight edges), tagbench-paper (the paper's detector: 1 bit corrected),
+16h5 1, 25h9 2, 36h11 3), tagbench-thorough (the thorough profile: the default with its quads
+from straight edges found at full resolution, and the coarse pass), tagbench-paper (the paper's detector: 1 bit corrected),
 libapriltag-d2 (libapriltag 3.3's defaults: quad_decimate 2, 2 bits corrected), aruco-default
 (OpenCV 4.6 aruco's defaults). Writes DIR/fp_detectors.csv (per detector, family and subset: all,
 still, video-frame, group:NAME; false detections per image and per megapixel with exact Poisson 95 %
@@ -256,8 +256,8 @@ int falsepos_detectors(const Words& w) {
      << ",\n  \"detectors\": {\n"
         "    \"tagbench\": \"tagbench default profile (DetectorOptions defaults: threshold quads, edge refinement, "
         "area payload reading, bits corrected by family (16h5 1, 25h9 2, 36h11 3), full resolution)\",\n"
-        "    \"tagbench-thorough\": \"tagbench DetectorOptions::thorough() (the default profile plus quads from "
-        "straight edges, line_quads)\",\n"
+        "    \"tagbench-thorough\": \"tagbench DetectorOptions::thorough() (the default profile with its quads from "
+        "straight edges found at full resolution, line_quads, and the coarse pass, coarse_pass)\",\n"
         "    \"tagbench-half\": \"tagbench default profile, quads found at half resolution\",\n"
         "    \"tagbench-paper\": \"tagbench DetectorOptions::paper() (sigma 0.8, 1 bit corrected, full resolution)\",\n"
         "    \"tagbench-paper-half\": \"tagbench DetectorOptions::paper(), segmentation at half resolution\",\n"

@@ -25,9 +25,9 @@ Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted t
 .mpeg .wmv .flv .ogv .3gp .ts: every frame, reported as FILE#frameN with N from 0); a lone '-': the
 paths are read from stdin, one a line (how the experiments run an external detector).
   --profile P          default (the default profile: threshold quads, refined edges, cells read over
-                       their area), thorough (the default plus quads from straight edges: more of the
-                       small, faint tags of photographs for about twice the time; their edges are
-                       found at full resolution even with --half-res) or paper (the 2011 paper's
+                       their area), thorough (the default with its quads from straight edges found on
+                       the full-resolution image, even with --half-res, and a coarse pass: more of
+                       the small, faint tags of photographs for about twice the time) or paper (the 2011 paper's
                        detector exactly, sections III-IV)
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
   --max-hamming K      payload bits corrected at most, 0..16, for every family (default: the paper

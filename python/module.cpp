@@ -127,8 +127,9 @@ PYBIND11_MODULE(tagbench, m) {
   py::class_<Detector>(m, "Detector",
                        "Detector(families=['36h11'], max_hamming=None, min_decision_margin=0, camera=None, "
                        "distortion=None, tag_size=None, half_resolution=False, profile='default'). profile: 'default' "
-                       "(DetectorOptions{}), 'thorough' (DetectorOptions::thorough(): the default plus quads from straight "
-                       "edges, more of the small faint tags for about twice the time) or 'paper' "
+                       "(DetectorOptions{}), 'thorough' (DetectorOptions::thorough(): the default with its quads from "
+                       "straight edges found at full resolution and a coarse pass, more of the small faint tags for "
+                       "about twice the time) or 'paper' "
                        "(DetectorOptions::paper(), the 2011 paper's detector). "
                        "max_hamming: None = the profile's bits (default: by family, 36h11 3, 25h9 2, 16h5 1; paper: 1), "
                        "K = K bits for every family. The "

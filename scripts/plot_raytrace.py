@@ -40,7 +40,7 @@ STEMS = {"angle": "fig9_angle", "distance": "fig10_distance", "conditions": "con
 STYLE = {  # detector: (label, colour, line style)
     "tagbench": ("ours (default profile), full resolution", "tab:purple", "-"),
     "tagbench-half": ("ours (default profile), half resolution", "tab:pink", "--"),
-    "tagbench-thorough": ("ours (thorough profile: default + line quads)", "tab:brown", "-."),
+    "tagbench-thorough": ("ours (thorough profile: full-resolution line quads)", "tab:brown", "-."),
     "tagbench-paper": ("ours (paper profile), full resolution", "tab:blue", "-"),
     "tagbench-paper-half": ("ours (paper profile), half resolution", "tab:cyan", "--"),
     "libapriltag-d1": ("libapriltag 3.3, decimate 1", "tab:orange", "-"),

@@ -51,7 +51,7 @@ def _realistic(d):
     b20 = next((b for b in bins if b.startswith("20-")), None)
     if b20:
         r = _f(ours[b20]["detection_rate"])
-        # The thorough profile (the default plus the line quads and joined outlines) is no target's
+        # The thorough profile (the default with full-resolution line quads and the coarse pass) is no target's
         # subject: its rate is given beside the default's, which the target is about, as a count and to
         # a tenth of a percent (94.7 % is not 95 %).
         thorough = {x["size_bin"]: x for x in _by(s, THOROUGH)}.get(b20)

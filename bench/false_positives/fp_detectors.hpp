@@ -19,7 +19,7 @@ namespace tagbench::bench {
 
 struct FpDetectorsOptions {
   // tagbench: our default profile (bits corrected by family); tagbench-thorough: the thorough profile
-  // (the default plus the line quads); tagbench-paper: the paper's detector (1 bit corrected);
+  // (full-resolution line quads, coarse pass); tagbench-paper: the paper's detector (1 bit corrected);
   // libapriltag-d2: libapriltag 3.3's defaults (quad_decimate 2, 2 bits corrected); aruco-default:
   // OpenCV 4.6 aruco's defaults.
   std::vector<std::string> detectors = {"tagbench", "tagbench-thorough", "tagbench-paper", "libapriltag-d2",

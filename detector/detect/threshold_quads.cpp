@@ -27,8 +27,11 @@ void refine_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, 
                             EdgeRefineScratch& scratch) {
   EdgeRefineOptions r = opt.refine;
   if (threshold_quads_halved(img, opt)) r.min_range_px = std::max(r.min_range_px, 2.0);
+  // The border check only where the fit is already close: a half-size pass's corners can be a pixel
+  // or two off, and refining is what brings a tag's border back into the check's rings.
+  const bool check = opt.refine_check.enabled && !threshold_quads_halved(img, opt);
   for (Quad& q : quads) {
-    if (opt.refine_check.enabled &&
+    if (check &&
         !border_contrast_plausible(img, q.corners, opt.refine_check.payload_width, opt.refine_check.min_contrast))
       continue;
     if (const auto c = refine_quad_edges(img, q.corners, r, scratch)) q.corners = *c;

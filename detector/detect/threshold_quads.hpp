@@ -40,8 +40,9 @@ struct ThresholdQuadOptions {
   QuadFitOptions fit;      // fit.min_tag_width is in full-resolution pixels (halved internally, >= 3)
   bool refine_edges = true;  // refit the sides on the full-resolution image (edge_refine.hpp)
   EdgeRefineOptions refine;  // min_range_px is raised to 2 px when halving (one half-size pixel either side)
-  // Beyond AprilTag 3, for speed: with enabled, a quad (of the pass, its low-contrast look or the
-  // coarse pass) whose border does not look like a tag's (border_contrast_plausible, payload_decode.hpp,
+  // Beyond AprilTag 3, for speed: with enabled, a quad of a full-resolution pass (not halve: a
+  // half-size fit is too rough for the check; realistic seed 2 lost 2 of 678 tags at half
+  // resolution) whose border does not look like a tag's (border_contrast_plausible, payload_decode.hpp,
   // with this payload width and contrast floor) is left as fitted instead of refined: the decoder's
   // pre-filter (PayloadOptions::quick_reject) refuses it by the same test. Off here; on in the
   // default profile. The Detector sets payload_width to its families' largest and min_contrast to

@@ -1,8 +1,8 @@
 #pragma once
 // <tagbench/detector.hpp>: the AprilTag detector, in three profiles: the 2011 paper's (E. Olson, ICRA 2011;
 // DetectorOptions::paper()), the default profile (DetectorOptions{}) and the thorough profile
-// (DetectorOptions::thorough(): the default plus quads from straight edges, for small faint tags, at
-// about twice the time).
+// (DetectorOptions::thorough(): the default with its quads from straight edges found at full
+// resolution and a coarse pass, for small faint tags, at about twice the time).
 //
 // What a user needs, and nothing of OpenCV (cv::Mat input: <tagbench/opencv.hpp>):
 //   tagbench::DetectorOptions  settings, each with its documented default; the defaults are the
