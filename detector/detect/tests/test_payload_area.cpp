@@ -6,7 +6,9 @@
 #include "codes/tag_layout.hpp"
 #include "detect/blur.hpp"
 #include "detect/decode_quads.hpp"
+#include "detect/homography.hpp"
 #include "detect/payload_area.hpp"
+#include "synthetic.hpp"
 #include "synthetic_tag.hpp"
 
 namespace test_payload_area {
@@ -68,6 +70,33 @@ TEST(PayloadArea, NoContrastOrOffImageGivesNothing) {
   PayloadAreaOptions bad;
   bad.samples_per_side = 0;
   EXPECT_FALSE(read_payload_area(img, H, 6, bad).has_value());
+}
+
+// A homography whose whole sample grid lands inside the image is read without a bounds test per
+// sample; the reading is the same as through a map the reader must test sample by sample (and as
+// before where the grid leaves the image): tags well inside, at the edge, past it, and steeply tilted.
+TEST(PayloadArea, TheGridTestedOnceReadsAsEverySampleTested) {
+  const TagFamily& f = builtin_family("36h11");
+  const std::vector<Corners> places = {
+      synth::square_tag_corners(30, 30, 16, 0.3), synth::square_tag_corners(11, 30, 16, 0),
+      synth::square_tag_corners(10.2, 30, 16, 0), synth::square_tag_corners(8, 30, 16, 0.1),
+      Corners{Eigen::Vector2d(12, 8), Eigen::Vector2d(50, 14), Eigen::Vector2d(47, 30), Eigen::Vector2d(15, 27)}};
+  int read = 0;
+  for (const Corners& c : places) {
+    const Eigen::Matrix3d H = synth::homography_for(c);
+    ImageF img = synth::render_tag(60, 60, tag_cells(f, 5), H);
+    synth::add_gaussian_noise(img, 0.02, 3);
+    const auto a = read_payload_area(img, H, 6);
+    const auto b = read_payload_area(img, TagToImage([&](const Eigen::Vector2d& u) { return apply_homography(H, u); }), 6);
+    ASSERT_EQ(a.has_value(), b.has_value());
+    if (!a) continue;
+    ++read;
+    EXPECT_EQ(a->bits, b->bits);
+    EXPECT_EQ(a->margin, b->margin);
+    EXPECT_EQ(a->contrast, b->contrast);
+    EXPECT_EQ(a->confidence, b->confidence);
+  }
+  EXPECT_GE(read, 3);
 }
 
 // Cells under small_cell_px are read with small_cell_sharpening, larger ones with sharpening: the
