@@ -8,9 +8,10 @@
 // share a light one) are joined (their points in group order) when the joined outline is of tag size,
 // and each joined group is fitted by its outer outline, then its innermost outward outline
 // (outline_only; else by the whole chain of fit_quads); the quads whose centre no tag found so far
-// covers are edge-refined on the image and decoded like every candidate. On in the thorough profile
-// (realistic seeds 1 / 2: +9 / +5 tags, 20-24 px +1 / +2, 7 % more time; docs/default-profile.md,
-// session 26).
+// covers are edge-refined on the image and decoded like every candidate. On in the default profile
+// (since session 27, with the half-size line quads in place of the coarse pass) and the thorough one
+// (realistic seeds 1 / 2: +9 / +5 tags, 20-24 px +1 / +2, 7 % more time there; docs/default-profile.md,
+// sessions 26-27).
 //
 // Coordinates: pixels of the image the groups were found on (doubled in BoundaryGroups); quads
 // clockwise on screen (quad_search.hpp).
@@ -29,7 +30,7 @@
 namespace tagbench {
 
 struct DarkOutlineOptions {
-  bool enabled = false;      // off here and in the default and paper profiles; thorough() turns it on
+  bool enabled = false;      // off here and in paper(); the default and thorough profiles turn it on
   double min_size_px = 10;   // the joined groups' box: longer side at least this, >= 0
   double max_size_px = 50;   // ... and at most this (px), > 0
   int min_groups = 2;        // a dark component joined only when it has at least this many groups, >= 2

@@ -308,7 +308,8 @@ struct DetectorOptions {
   //   payload.min_contrast    [0, 1];
   //   quad_finder, payload_reader  one of the enumerators;
   //   threshold_quads         blur_sigma finite >= 0; threshold.tile_size 1..256; threshold.min_contrast
-  //                           [0, 1]; refine_check.payload_width 1..8, refine_check.min_contrast [0, 1]; boundaries.min_component_pixels >= 1; fit.min_points >= 4,
+  //                           [0, 1]; refine_check.payload_width 1..8, refine_check.min_contrast [0, 1];
+  //                           boundaries.min_component_pixels >= 1; fit.min_points >= 4,
   //                           fit.max_maxima 4..64, fit.max_line_fit_mse finite > 0, fit.min_angle_deg
   //                           [0, 45], fit.min_tag_width finite >= 0, fit.dark_inside or light_inside;
   //   threshold_quads.low_contrast  (low_contrast_quads.hpp) min_contrast, min_fill, min_aspect [0, 1];

@@ -1,6 +1,7 @@
 #pragma once
 // Beyond the paper and AprilTag 3 (off in paper(); in the default profile on the half-size image,
-// in thorough() at full resolution; measured in docs/default-profile.md, sessions 22-27): candidate quads from straight edges (line_segments.hpp, LSD's method) joined by the
+// in thorough() at full resolution; measured in docs/default-profile.md, sessions 22-27): candidate
+// quads from straight edges (line_segments.hpp, LSD's method) joined by the
 // paper's quad search (quad_search.hpp). A small tag whose white ring is broken or classed with its
 // border has no outline among the threshold stage's boundary groups, yet its four sides are short
 // straight edges that region growing on gradient directions still finds whole.

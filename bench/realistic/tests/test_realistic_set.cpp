@@ -178,9 +178,8 @@ TEST(RealisticSet, JpegIsWhatTheDetectorsGet) {
 
 // The thorough profile (DetectorOptions::thorough()) on the make bench set (seed 1): frames 57 and 91
 // each hold a 20-24 px tag (its ring broken into a darker card) the default profile finds no quad
-// for; its full-resolution line
-// quads find it at its place, and with the default's line quads and no coarse pass it detects
-// exactly what the default does.
+// for; its full-resolution line quads find it at its place, and with the default's line quads and no
+// coarse pass it detects exactly what the default does.
 TEST(RealisticSet, ThoroughProfileFindsFaintTagsTheDefaultMisses) {
   const RealisticSettings s;  // seed 1, as make bench
   DetectorOptions off = DetectorOptions::thorough();
