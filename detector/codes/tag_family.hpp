@@ -65,6 +65,14 @@ class TagFamily {
   PrefixBuckets buckets_;                          // words_ bucketed for the few-errors path
 };
 
+// The widest payload (d) among `families`; 0 for none. The quad stages that serve every family
+// (the border pre-filter, the kink measure) size their rings for it.
+inline int max_payload_width(std::span<const TagFamily> families) {
+  int d = 0;
+  for (const TagFamily& f : families) d = f.payload_width() > d ? f.payload_width() : d;
+  return d;
+}
+
 // Distance statistics of a codebook (Fig. 5 and `family stats`).
 struct DistanceStats {
   int min_plain = 0;             // min over pairs of hamming(a, b)

@@ -77,8 +77,7 @@ std::vector<Detection> decode_bent_quads(const ImageF& gray, const ImageF& decod
   if (!opt.enabled || outcomes.size() != quads.size() || families.empty()) return found;
   PayloadAreaOptions area_opt = area;
   area_opt.min_contrast = min_contrast;
-  int max_d = 0;
-  for (const TagFamily& f : families) max_d = std::max(max_d, f.payload_width());
+  const int max_d = max_payload_width(families);
   for (std::size_t qi = 0; qi < quads.size(); ++qi) {
     QuadOutcome& outcome = outcomes[qi];
     if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;

@@ -92,8 +92,7 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
                                     std::vector<QuadOutcome>* outcomes, bool hamming_by_family,
                                     const SoftDecodeOptions* soft) {
   std::vector<Detection> found;
-  int max_d = 0;
-  for (const TagFamily& f : families) max_d = std::max(max_d, f.payload_width());
+  const int max_d = max_payload_width(families);
   std::optional<PayloadAreaOptions> area_opt;
   if (area) {
     area_opt = *area;

@@ -106,8 +106,7 @@ Detector::Detector(DetectorOptions options) : opt_(std::move(options)), find_qua
   // The refinement's border check (ThresholdQuadOptions::refine_check) asks what the decoder's
   // pre-filter will: the thinnest rings of the families searched, the payload's contrast floor.
   auto& check = opt_.threshold_quads.refine_check;
-  check.payload_width = 1;
-  for (const TagFamily& f : families_) check.payload_width = std::max(check.payload_width, f.payload_width());
+  check.payload_width = std::max(1, max_payload_width(families_));
   check.min_contrast = opt_.payload.min_contrast;
   check.enabled = check.enabled && opt_.payload.quick_reject && opt_.decode_sigma == 0;  // the image it reads
   if (opt_.quad_finder == QuadFinderKind::kThreshold) find_quads_ = &find_threshold_quads_in_image;
@@ -263,7 +262,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     // line_quads.hpp: quads of straight edges where no tag was found, each read as the black square,
     // then (those still uncovered) as printed squares; each refined before reading or, when its
     // refine_black / refine_inner option is off, only the tags it gives, after reading.
-    const int max_d = *std::max_element(widths.begin(), widths.end());
+    const int max_d = max_payload_width(families_);
     const auto refined = [&](const std::vector<Quad>& quads) {
       std::vector<Quad> out;
       for (const Quad& q : quads)

@@ -120,4 +120,13 @@ TEST(Families, RegistryKnowsAllShippedAndRivalFamilies) {
   EXPECT_THROW(load_family("/no/such/file.fam"), std::invalid_argument);
 }
 
+TEST(TagFamily, MaxPayloadWidthIsTheWidestFamilys) {
+  const std::vector<TagFamily> none;
+  EXPECT_EQ(max_payload_width(none), 0);
+  const std::vector<TagFamily> small{load_family("16h5"), load_family("25h9")};
+  EXPECT_EQ(max_payload_width(small), 5);
+  const std::vector<TagFamily> mixed{load_family("25h9"), load_family("36h11"), load_family("16h5")};
+  EXPECT_EQ(max_payload_width(mixed), 6);
+}
+
 }  // namespace test_tag_family
