@@ -1,9 +1,28 @@
 #include "cli/args.hpp"
 
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 
 namespace tagbench::cli {
+
+std::string one_line(const std::string& s, bool escape) {
+  std::string out;
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 0x20 && c != 0x7f) {
+      out += ch;
+    } else if (!escape) {
+      if (!out.empty() && out.back() != ' ') out += ' ';
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    }
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
 
 Args::Args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& specs) {
   const auto find = [&](const std::string& name, bool is_short) -> const OptionSpec* {

@@ -6,13 +6,31 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tagbench::cli {
 
+// One line for stderr: control characters (a newline in a file name or an OpenCV message) are shown
+// escaped (`escape`, as \xNN) or as spaces, so every error stays on its own line.
+std::string one_line(const std::string& s, bool escape);
+
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// f(), with an std::invalid_argument or std::out_of_range it throws (a family name or file that cannot be loaded, an id or
+// option outside the library's domain) turned into a UsageError (exit 2), its message after `prefix`.
+template <class F>
+decltype(auto) usage_on_invalid(const std::string& prefix, F&& f) {
+  try {
+    return std::forward<F>(f)();
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(prefix + e.what());
+  } catch (const std::out_of_range& e) {
+    throw UsageError(prefix + e.what());
+  }
+}
 
 struct OptionSpec {
   OptionSpec(std::string n, bool value = true, bool repeat = false, std::string short_n = "")

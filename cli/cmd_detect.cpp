@@ -56,7 +56,9 @@
 // unreadable, 0-byte or undecodable file, a directory without images and a video without a
 // readable frame are errors of that input: one line on stderr, an entry in "errors", the other
 // inputs still processed, exit status 1. Bad options are usage errors (exit 2) reported before
-// anything is read or written; a family that cannot be loaded exits 1 (as in `tagbench render`).
+// anything is read or written; so is a family that cannot be loaded. SIGINT or SIGTERM stop the run
+// between images: the images begun are finished and printed, then an "errors" entry "interrupted"
+// and a complete document (JSON closed, CSV rows whole), exit status 130 or 143.
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/utils/logger.hpp>
@@ -71,6 +73,7 @@
 #include <charconv>
 #include <chrono>
 #include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
@@ -112,6 +115,26 @@ namespace fs = std::filesystem;
 namespace {
 
 using namespace detect_cmd;
+
+// The signal that asked the run to stop (SIGINT, SIGTERM), 0 while none has.
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
+
+// Installs on_stop_signal for SIGINT and SIGTERM while it lives, then restores what was there.
+class StopSignals {
+ public:
+  StopSignals() : int_(std::signal(SIGINT, on_stop_signal)), term_(std::signal(SIGTERM, on_stop_signal)) {}
+  ~StopSignals() {
+    std::signal(SIGINT, int_);
+    std::signal(SIGTERM, term_);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  void (*int_)(int);
+  void (*term_)(int);
+};
 
 // ------------------------------------------------------------------------------------------------
 // Processing one input
@@ -357,7 +380,20 @@ int cmd_detect(const Words& words) {
     }
   }
 
-  const Detector detector(s.det);  // throws on a family that cannot be loaded
+  // A family that cannot be loaded, or options the families do not admit (two of one name,
+  // --max-hamming at or above a family's distance), is a bad option: exit 2.
+  const Detector detector = usage_on_invalid("", [&] {
+    try {
+      return Detector(s.det);
+    } catch (const std::invalid_argument& e) {
+      // The library names its fields (DetectorOptions::validate); the user gave flags.
+      const std::string what = e.what();
+      for (const auto& [field, flag] : {std::pair{"max_hamming", "--max-hamming"}, std::pair{"tag_size", "--tag-size"},
+                                        std::pair{"camera.", "--camera "}, std::pair{"distortion.", "--distortion "}})
+        if (what.starts_with(field)) throw std::invalid_argument(flag + what.substr(std::string_view(field).size()));
+      throw;
+    }
+  });
   // OpenCV's own warnings (decoders, video back ends) would break the one-line-per-error rule.
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   cv::setNumThreads(1);  // parallelism is across images; OpenCV's own threads would oversubscribe
@@ -365,12 +401,15 @@ int cmd_detect(const Words& words) {
   const std::vector<Source> sources = expand_inputs(inputs);
   const Processor proc(s, detector);
   Sink sink(s, detector);
+  g_stop_signal = 0;
+  const StopSignals stop_signals;  // before the document begins: from here on it is always closed
   sink.begin();
   {
     Pipeline pipe(proc, sink, s.threads);
     for (const Source& src : sources)
       if (!src.video) pipe.add_expected(1);
     for (const Source& src : sources) {
+      if (g_stop_signal) break;
       Job job;
       job.label = src.label;
       job.out_name = src.out_name;
@@ -403,7 +442,7 @@ int cmd_detect(const Words& words) {
       const double count = cap.get(cv::CAP_PROP_FRAME_COUNT);
       if (count > 0 && count < 1e9) pipe.add_expected(static_cast<std::size_t>(count));
       int n = 0;
-      while (true) {
+      while (!g_stop_signal) {
         cv::Mat frame;
         bool ok = false;
         try {
@@ -421,15 +460,32 @@ int cmd_detect(const Words& words) {
         pipe.submit(std::move(fj));
         ++n;
       }
+      if (g_stop_signal) break;
       if (n == 0) {
         job.error = "no frame could be read from the video";
         pipe.submit(std::move(job));
+      } else if (count > 0 && count < 1e9 && n + 1 < static_cast<long long>(count)) {
+        // The container declares more frames than could be decoded: a corrupt frame ends the reading
+        // (the frames after it are lost), which must not pass for the end of the video. One frame
+        // short is tolerated: some containers' counts are estimated from the duration.
+        job.label = src.label + "#frame" + std::to_string(n);
+        job.error = "cannot decode frame " + std::to_string(n) + " of the " + std::to_string(static_cast<long long>(count)) +
+                    " the video declares (corrupt or truncated); the frames after it are not read";
+        pipe.submit(std::move(job));
       }
+    }
+    if (const int sig = g_stop_signal) {
+      Job stopped;
+      stopped.label = "(interrupted)";
+      stopped.error = std::string(sig == SIGINT ? "SIGINT" : "SIGTERM") +
+                      ": stopped; the images begun were finished, the rest not read";
+      pipe.submit(std::move(stopped));
     }
     pipe.finish();
   }
   proc.remove_empty_created_dirs();
   sink.end();
+  if (const int sig = g_stop_signal) return 128 + sig;
   return sink.failures() > 0 ? 1 : 0;
 }
 

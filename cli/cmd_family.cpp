@@ -185,6 +185,10 @@ int do_generate(const Words& w) {
   }
 
   std::string name = a.get_or("name", "");
+  // The name is a header line of the file: a line break would start another header key.
+  for (const char ch : name)
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
+      throw UsageError("--name '" + name + "': control characters (a line break) cannot be part of a family name");
   if (name.empty()) {
     name = std::to_string(p.bits) + "h" + std::to_string(p.min_hamming);
     if (p.min_complexity >= 0 && p.min_complexity != std::min(10, p.bits / 3)) name += "_c" + std::to_string(p.min_complexity);

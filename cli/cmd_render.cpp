@@ -31,9 +31,9 @@ int cmd_render(const Words& words) {
   if (!a.has("family")) throw UsageError("--family is required");
   if (!a.has("id")) throw UsageError("--id is required");
   if (!a.has("out")) throw UsageError("-o/--out is required");
-  const TagFamily family = load_family(*a.get("family"));
+  const TagFamily family = usage_on_invalid("--family: ", [&] { return load_family(*a.get("family")); });
   const long long id = a.get_int("id", 0, 0, 1LL << 40);
-  const TagCells cells = tag_cells(family, static_cast<int>(id));
+  const TagCells cells = usage_on_invalid("--id: ", [&] { return tag_cells(family, static_cast<int>(id)); });
   const std::filesystem::path out = *a.get("out");
   const std::string ext = out.extension().string();
   if (ext == ".svg") {

@@ -38,7 +38,8 @@ int cmd_scene(const Words& w) {
   const std::string family = a.get_or("family", "36h11");
   const std::filesystem::path out = *a.get("out");
   if (out.extension() != ".png") throw UsageError("-o " + out.string() + ": the scene is written as .png");
-  builtin_family(family);  // unknown names fail here with the list of known ones
+  // unknown names fail here with the list of known ones
+  usage_on_invalid("--family: ", [&] { return builtin_family(family).size(); });
   const Scene s = make_scene(width, height, family, count, seed);
   std::vector<std::uint8_t> png;
   if (!cv::imencode(".png", s.image, png)) throw std::runtime_error(out.string() + ": PNG encoding failed");

@@ -72,9 +72,17 @@ int cmd_score(const Words& w) {
     throw UsageError(e.what());
   }
   if (a.has("pixel-offset")) c.pixel_offset = parse_double("--pixel-offset", *a.get("pixel-offset"), -1e6, 1e6);
-  std::string name = a.get_or("name", detections == "-" ? "stdin" : std::filesystem::path(detections).stem().string());
-  if (name.empty() || name.find_first_of(",\"\r\n") != std::string::npos)
-    throw UsageError("--name '" + name + "': a detector name must be non-empty, without commas, quotes or line breaks");
+  std::string name;
+  if (const auto given = a.get("name")) {
+    name = *given;
+    if (name.empty() || name.find_first_of(",\"\r\n") != std::string::npos)
+      throw UsageError("--name '" + name + "': a detector name must be non-empty, without commas, quotes or line breaks");
+  } else {  // from the file name, made fit for a CSV cell: what a name may not hold becomes '_'
+    name = detections == "-" ? "stdin" : std::filesystem::path(detections).stem().string();
+    for (char& ch : name)
+      if (ch == ',' || ch == '"' || static_cast<unsigned char>(ch) < 0x20) ch = '_';
+    if (name.empty()) name = "detections";
+  }
   const std::string out_text = a.get_or("out", "score");
   check_out_folder("--out", out_text);
 

@@ -30,7 +30,8 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        the small, faint tags of photographs for about twice the time) or paper (the 2011 paper's
                        detector exactly, sections III-IV)
   --family F           tag family, a built-in name or a family file; repeatable (default 36h11)
-  --max-hamming K      payload bits corrected at most, 0..16, for every family (default: the paper
+  --max-hamming K      payload bits corrected at most, for every family: 0..16 and below the smallest
+                       minimum Hamming distance of the families (default: the paper
                        profile 1; the default profile by family, min(3, (h - 1) / 3) for a family of
                        minimum distance h: 36h11 3, 25h9 2, 16h5 1)
   --min-margin M       drop detections whose decision_margin is below M, 0..1 (default 0: keep all,

@@ -37,26 +37,6 @@ const std::set<std::string>& video_extensions() {
 bool is_video_path(const fs::path& p) { return video_extensions().count(lower(p.extension().string())) > 0; }
 bool is_image_path(const fs::path& p) { return image_extensions().count(lower(p.extension().string())) > 0; }
 
-// One line for stderr: control characters (a newline in a file name or an OpenCV message) are shown
-// escaped or as spaces, so every error stays on its own line.
-std::string one_line(const std::string& s, bool escape) {
-  std::string out;
-  for (const char ch : s) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (c >= 0x20 && c != 0x7f) {
-      out += ch;
-    } else if (!escape) {
-      if (!out.empty() && out.back() != ' ') out += ' ';
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", c);
-      out += buf;
-    }
-  }
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  return out;
-}
-
 namespace {
 
 std::string system_reason(const std::error_code& ec) { return ec ? ec.message() : std::string("unknown error"); }

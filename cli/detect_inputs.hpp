@@ -20,9 +20,6 @@ namespace fs = std::filesystem;
 std::string lower(std::string s);
 bool is_video_path(const fs::path& p);
 bool is_image_path(const fs::path& p);
-// One line for stderr: control characters (a newline in a file name or an OpenCV message) are shown
-// escaped (`escape`) or as spaces, so every error stays on its own line.
-std::string one_line(const std::string& s, bool escape);
 
 // One unit of work: an image file, a decoded video frame, or an input already known to have failed.
 struct Job {

@@ -65,10 +65,15 @@ cv::Mat load_image(const std::filesystem::path& path) {
     errno = 0;
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(std::string("cannot open: ") + (errno ? std::strerror(errno) : "unknown error"));
-    std::ostringstream ss;
-    ss << in.rdbuf();
+    // At most 1 GiB (a 100-megapixel 16-bit colour image, the detector's pixel limit, is under that
+    // even uncompressed): /dev/zero or a runaway FIFO would otherwise be read until memory runs out.
+    constexpr std::size_t kMaxBytes = std::size_t{1} << 30;
+    char chunk[1 << 16];
+    while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+      bytes.append(chunk, static_cast<std::size_t>(in.gcount()));
+      if (bytes.size() > kMaxBytes) throw std::runtime_error("over 1 GiB: not an image file this tool reads");
+    }
     if (in.bad()) throw std::runtime_error("read error");
-    bytes = ss.str();
   }
   return decode_image(bytes);
 }

@@ -100,11 +100,11 @@ int main(int argc, char** argv) {
     if (name != c.name) continue;
     try {
       return c.run(rest);
-    } catch (const tagbench::cli::UsageError& e) {
-      std::fprintf(stderr, "tagbench %s: %s\n", c.name, e.what());
+    } catch (const tagbench::cli::UsageError& e) {  // one line: a newline in a name is shown escaped
+      std::fprintf(stderr, "tagbench %s: %s\n", c.name, tagbench::cli::one_line(e.what(), true).c_str());
       return 2;
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "tagbench %s: %s\n", c.name, e.what());
+      std::fprintf(stderr, "tagbench %s: %s\n", c.name, tagbench::cli::one_line(e.what(), true).c_str());
       return 1;
     }
   }

@@ -59,6 +59,9 @@ DetectorOptions make_options(const std::vector<std::string>& families, const std
     o.hamming_by_family = false;
   }
   o.min_decision_margin = min_decision_margin;
+  // As `tagbench detect`: a pose needs both, and either alone is a mistake worth naming.
+  if (camera && !tag_size) throw std::invalid_argument("camera: poses need tag_size too (the black square's edge, metres)");
+  if (tag_size && !camera) throw std::invalid_argument("tag_size: given without camera=(fx, fy, cx, cy)");
   if (camera) o.camera = CameraIntrinsics{(*camera)[0], (*camera)[1], (*camera)[2], (*camera)[3]};
   o.distortion = distortion;
   if (tag_size) o.tag_size = *tag_size;

@@ -119,26 +119,46 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir, bool recu
   return removed;
 }
 
+std::filesystem::path write_destination(const std::filesystem::path& target) {
+  namespace fs = std::filesystem;
+  fs::path p = target;
+  std::error_code ec;
+  for (int hops = 0; fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+    if (hops == 40) throw std::runtime_error("cannot write " + target.string() + ": too many levels of symbolic links");
+    const fs::path next = fs::read_symlink(p, ec);
+    if (ec) throw std::runtime_error("cannot write " + target.string() + ": " + ec.message());
+    p = next.is_absolute() ? next : p.parent_path() / next;
+  }
+  const fs::file_status st = fs::status(p, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw std::runtime_error("cannot write " + target.string() + ": " +
+                             (fs::is_directory(st) ? "is a directory" : "not a regular file (a device, FIFO or socket)"));
+  return p;
+}
+
 void write_file_atomic(const std::filesystem::path& target, std::string_view content) {
-  write_temporary(target, content);
-  rename_temporary(target);
+  const std::filesystem::path dest = write_destination(target);
+  write_temporary(dest, content);
+  rename_temporary(dest);
 }
 
 void write_files_atomic(const std::vector<std::pair<std::filesystem::path, std::string>>& files) {
+  std::vector<std::filesystem::path> dest;
+  for (const auto& f : files) dest.push_back(write_destination(f.first));  // all checked before any is written
   std::size_t staged = 0;
   try {
-    for (; staged < files.size(); ++staged) write_temporary(files[staged].first, files[staged].second);
+    for (; staged < files.size(); ++staged) write_temporary(dest[staged], files[staged].second);
   } catch (...) {
-    for (std::size_t i = 0; i < staged; ++i) ::unlink(temporary_for(files[i].first).c_str());
+    for (std::size_t i = 0; i < staged; ++i) ::unlink(temporary_for(dest[i]).c_str());
     throw;
   }
   // Renames within a folder do not fail for want of space; should one fail anyway, the temporaries
   // not yet renamed go too.
   for (std::size_t i = 0; i < files.size(); ++i) {
     try {
-      rename_temporary(files[i].first);
+      rename_temporary(dest[i]);
     } catch (...) {
-      for (std::size_t k = i + 1; k < files.size(); ++k) ::unlink(temporary_for(files[k].first).c_str());
+      for (std::size_t k = i + 1; k < files.size(); ++k) ::unlink(temporary_for(dest[k]).c_str());
       throw;
     }
   }

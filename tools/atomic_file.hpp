@@ -19,8 +19,14 @@
 namespace tagbench {
 
 // Throws std::runtime_error naming the path and the system's reason on any failure; on failure the
-// target is untouched and the temporary removed.
+// target is untouched and the temporary removed. A symbolic link is written through (the file it
+// names is replaced, the link kept); a target that exists and is not a regular file (a directory,
+// device, FIFO or socket) is refused, as renaming over it would replace the node.
 void write_file_atomic(const std::filesystem::path& target, std::string_view content);
+
+// The file a write to `target` replaces (write_file_atomic's rule above); throws std::runtime_error
+// when it would not be a regular file.
+std::filesystem::path write_destination(const std::filesystem::path& target);
 
 // Several files as one result: every temporary is written before any is renamed, so a failure (a
 // full disk, say) leaves none of them, rather than the first few of a set.

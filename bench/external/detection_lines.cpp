@@ -32,6 +32,10 @@ Found read_found(const JsonValue& j, const std::string& what) {
       if (r.size() != 3) throw JsonError(what + ": pose.R: expected 3 rows of 3 numbers");
       for (int k = 0; k < 3; ++k) pose.R(i, k) = r[static_cast<std::size_t>(k)].number(what + ": pose.R");
     }
+    // Orthonormal to printing precision (a detector's six significant digits are 1e-5 off): scored
+    // as a rotation, anything else would give a meaningless angle.
+    const double off = (pose.R.transpose() * pose.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+    if (!(off <= 1e-3)) throw JsonError(what + ": pose.R: not a rotation (R^T R differs from I by " + std::to_string(off) + ")");
     const auto& t = p->at("t", what + ": pose").array(what + ": pose.t");
     if (t.size() != 3) throw JsonError(what + ": pose.t: expected 3 numbers");
     for (int i = 0; i < 3; ++i) pose.t(i) = t[static_cast<std::size_t>(i)].number(what + ": pose.t");

@@ -5,6 +5,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <thread>
+#include <csignal>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -22,6 +25,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "tools/json_read.hpp"
+#include "kill_run.hpp"
 #include "run_tagbench.hpp"
 #include "scratch_dir.hpp"
 
@@ -635,6 +639,59 @@ TEST(CliDetect, VideoFramesAreEachAResult) {
   }
 }
 
+TEST(CliDetect, AVideoFrameThatCannotBeDecodedIsAnErrorNotTheEnd) {
+  const fs::path dir = fresh("video_bad_frame");
+  const fs::path video = dir / "clip.avi";
+  {
+    cv::VideoWriter w(video.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10, cv::Size(240, 200), true);
+    if (!w.isOpened()) GTEST_SKIP() << "no MJPG video writer in this OpenCV";
+    for (int f = 0; f < 4; ++f) {
+      cv::Mat bgr;
+      cv::cvtColor(padded(rendered_tag(4, 12), 30 + 20 * f, 40, 240, 200), bgr, cv::COLOR_GRAY2BGR);
+      w.write(bgr);
+    }
+  }
+  // The second frame's JPEG headers overwritten: the reader stops there, though 4 frames are declared.
+  std::string bytes = slurp(video);
+  const std::string soi = "\xFF\xD8\xFF";
+  const std::size_t second = bytes.find(soi, bytes.find(soi) + 1);
+  ASSERT_NE(second, std::string::npos);
+  for (std::size_t i = second + 2; i < std::min(bytes.size(), second + 600); ++i) bytes[i] = 'x';
+  std::ofstream(video, std::ios::binary) << bytes;
+  const Result r = run("detect --family 25h9 --format jsonl " + q(video));
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("clip.avi#frame1: cannot decode frame 1 of the 4 the video declares"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("#frame0"), std::string::npos) << r.out;
+}
+
+TEST(CliDetect, StoppedBySigtermTheDocumentIsStillWhole) {
+  const fs::path dir = fresh("interrupted");
+  const fs::path img = dir / "frame.png";
+  cv::Mat big(600, 800, CV_8UC1);
+  cv::randu(big, 0, 255);  // texture: each image takes the detector some milliseconds
+  cv::GaussianBlur(big, big, cv::Size(0, 0), 1.5);
+  padded(rendered_tag(4, 12), 0, 0, 240, 200).copyTo(big(cv::Rect(100, 100, 240, 200)));
+  write_png(img, big);
+  std::string args = "detect --family 25h9 --threads 1";
+  for (int i = 0; i < 2000; ++i) args += " " + q(img);
+  const pid_t pid = tagbench::testing::start_tagbench(args, dir);
+  // Once some images are out (the document has begun and is mid-way), SIGTERM.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (slurp(dir / "stdout").find("\"detections\"") == std::string::npos && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ::kill(pid, SIGTERM);
+  const Result r = tagbench::testing::wait_tagbench(pid, dir);
+  ASSERT_EQ(r.code, 128 + SIGTERM) << r.err;
+  EXPECT_EQ(lines(r.err), 1) << r.err;
+  const Json j = parse_json(r.out);  // closed: it parses
+  EXPECT_GE(j["images"].size(), 1u);
+  EXPECT_LT(j["images"].size(), 2000u);
+  ASSERT_EQ(j["errors"].size(), 1u);
+  EXPECT_EQ(j["errors"][0]["input"].str, "(interrupted)");
+  EXPECT_EQ(j["errors"][0]["error"].str.rfind("SIGTERM: stopped", 0), 0u);
+}
+
 TEST(CliDetect, TinyImagesAndNamesThatNeedEscaping) {
   const fs::path dir = fresh("tiny");
   const fs::path one = dir / "one.png";
@@ -682,7 +739,11 @@ TEST(CliDetect, BadInputsAndOptionsAreRefusedOnOneLine) {
   refused("--format xml" + g, "--format xml", 2);
   refused("--threads 0" + g, "--threads", 2);
   refused("--bogus" + g, "unknown option '--bogus'", 2);
-  refused("--family 36h99 " + q(good), "unknown family '36h99'", 1);
+  refused("--family 36h99 " + q(good), "unknown family '36h99'", 2);
+  refused("--max-hamming 9" + g, "--max-hamming = 9: must be in 0..8 (below the minimum Hamming distance 9 of family 25h9)", 2);
+  refused("--camera 400,400,200,200 --tag-size 1e300" + g, "--tag-size = 1e+300: must be in [1e-06, 1e+06]", 2);
+  refused("--camera 1e-300,400,200,200 --tag-size 0.1" + g, "--camera fx = 1e-300: must be in [0.01, 1e+08]", 2);
+  refused("--family \"$(printf '36h\\n99')\" " + q(good), "unknown family '36h\\x0a99'", 2);  // one line, the newline shown
   refused("--family 25h9", "no input", 2);
   // Input errors: the input named, JSON still printed, exit 1, nothing drawn for it.
   const Result missing = refused("--family 25h9 " + q(dir / "missing.png"), (dir / "missing.png").string() + ": no such file", 1);

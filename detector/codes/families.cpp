@@ -93,8 +93,13 @@ const TagFamily& builtin_family(const std::string& name) { return registry().get
 TagFamily load_family(const std::string& name_or_path) {
   std::error_code ec;
   if (std::filesystem::is_regular_file(name_or_path, ec)) return read_family_file(name_or_path);
-  if (name_or_path.find('/') != std::string::npos || name_or_path.ends_with(".fam"))
-    throw std::invalid_argument("family file " + name_or_path + ": no such file");
+  if (name_or_path.find('/') != std::string::npos || name_or_path.ends_with(".fam")) {
+    const auto st = std::filesystem::status(name_or_path, ec);
+    throw std::invalid_argument("family file " + name_or_path + ": " +
+                                (!std::filesystem::exists(st)        ? "no such file"
+                                 : std::filesystem::is_directory(st) ? "is a directory"
+                                                                     : "not a regular file"));
+  }
   return builtin_family(name_or_path);
 }
 

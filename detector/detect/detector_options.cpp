@@ -200,18 +200,25 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   if (loaded.size() != families.size())
     throw std::invalid_argument("families: " + std::to_string(families.size()) + " named but " +
                                 std::to_string(loaded.size()) + " loaded");
-  // Every family's bits corrected stay below its distance: by family (each capped at (h - 1) / 3),
-  // max_hamming only has to be below the largest distance; else below the smallest.
+  // Every family's bits corrected stay below its distance. By family each is capped at (h - 1) / 3,
+  // below h whatever max_hamming is: max_hamming is then only a cap, 0..16 (a family of distance 2,
+  // such as artoolkitplus-bch, corrects none). Else max_hamming must be below the smallest distance.
   int h_min = loaded.front().min_hamming();
   std::string h_family = loaded.front().name();
   for (const TagFamily& f : loaded)
-    if (hamming_by_family ? f.min_hamming() > h_min : f.min_hamming() < h_min)
-      h_min = f.min_hamming(), h_family = f.name();
-  const int k_max = std::max(0, h_min - 1);
+    if (f.min_hamming() < h_min) h_min = f.min_hamming(), h_family = f.name();
+  const int k_max = hamming_by_family ? kMaxBitsCorrected : std::max(0, h_min - 1);
   if (max_hamming < 0 || max_hamming > k_max)
     fail("max_hamming", static_cast<long long>(max_hamming),
-         "must be in 0.." + std::to_string(k_max) + " (below the minimum Hamming distance " + std::to_string(h_min) +
-             " of family " + h_family + ")");
+         hamming_by_family ? "must be in 0.." + std::to_string(k_max)
+                           : "must be in 0.." + std::to_string(k_max) + " (below the minimum Hamming distance " +
+                                 std::to_string(h_min) + " of family " + h_family + ")");
+  // Two families of one name: a detection names its family, so it could not say which.
+  for (std::size_t i = 0; i < loaded.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (loaded[i].name() == loaded[j].name())
+        throw std::invalid_argument("families: '" + families[j] + "' and '" + families[i] +
+                                    "' are both named '" + loaded[i].name() + "': a detection could not say which");
   within("min_decision_margin", min_decision_margin, 0, 1);
   finite_at_least("seg_sigma", seg_sigma, 0);
   finite_at_least("decode_sigma", decode_sigma, 0);
@@ -335,11 +342,13 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("soft_decode.confidence_cap", soft_decode.confidence_cap, 0);
 
   if (camera) {
-    finite_above("camera.fx", camera->fx, 0);
-    finite_above("camera.fy", camera->fy, 0);
-    if (!std::isfinite(camera->cx)) fail("camera.cx", camera->cx, "must be finite");
-    if (!std::isfinite(camera->cy)) fail("camera.cy", camera->cy, "must be finite");
-    finite_above("tag_size", tag_size, 0);  // metres, needed for the pose
+    // Bounds far outside any camera and tag, inside which the pose's arithmetic stays well scaled
+    // (at 1e300 m or a 1e-300 px focal length it overflowed into poses that were not rotations).
+    within("camera.fx", camera->fx, 1e-2, 1e8);
+    within("camera.fy", camera->fy, 1e-2, 1e8);
+    within("camera.cx", camera->cx, 0, 1e8);
+    within("camera.cy", camera->cy, 0, 1e8);
+    within("tag_size", tag_size, 1e-6, 1e6);  // metres, needed for the pose
   } else {
     finite_at_least("tag_size", tag_size, 0);  // unused without a camera
   }
@@ -348,7 +357,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
     static constexpr const char* kNames[5] = {"distortion.k1", "distortion.k2", "distortion.p1", "distortion.p2",
                                               "distortion.k3"};
     for (std::size_t i = 0; i < 5; ++i)
-      if (!std::isfinite((*distortion)[i])) fail(kNames[i], (*distortion)[i], "must be finite");
+      within(kNames[i], (*distortion)[i], -1e4, 1e4);
   }
   int_within("max_pixels", max_pixels, 1, kMaxPixelsCeiling);
 }

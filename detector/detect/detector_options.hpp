@@ -130,6 +130,9 @@ inline SecondLookOptions default_profile_second_look() {
   return o;
 }
 
+// The most bits any option may ask a decoder to correct (DetectorOptions::max_hamming's ceiling).
+inline constexpr int kMaxBitsCorrected = 16;
+
 // The bits a family of minimum Hamming distance h corrects: min(max_hamming, (h - 1) / 3) when
 // hamming_by_family (DetectorOptions::hamming_by_family), else max_hamming.
 inline int bits_corrected_for(int min_hamming, int max_hamming, bool hamming_by_family) {
@@ -295,10 +298,11 @@ struct DetectorOptions {
   // Checks every numeric field, nested options included, and throws std::invalid_argument with one
   // line naming the first bad field as it is spelt here and its value,
   // "FIELD = VALUE: RULE" (e.g. "quad_search.grid_cell = 0: must be finite and > 0"). The domains:
-  //   families                non-empty; max_hamming 0..max(0, h - 1), h the smallest minimum
-  //                           (with hamming_by_family: 0..max(0, h - 1), h the largest minimum)
-  //                           Hamming distance of the families (at h or more bits a code's acceptance
-  //                           ball holds other codes of its family: nothing would be an error any more);
+  //   families                non-empty, no two of one name; max_hamming 0..max(0, h - 1), h the
+  //                           smallest minimum Hamming distance of the families (at h or more bits a
+  //                           code's acceptance ball holds other codes of its family: nothing would be
+  //                           an error any more); with hamming_by_family 0..kMaxBitsCorrected (a cap:
+  //                           each family's (h - 1) / 3 is below h already);
   //   min_decision_margin     [0, 1]; seg_sigma, decode_sigma: finite, >= 0;
   //   segmentation            min_mag, k_theta, k_mag finite >= 0; max_edge_cost in (0, pi];
   //                           weight_scale 1..kMaxWeightScale; min_cluster_size >= 1;
@@ -337,8 +341,9 @@ struct DetectorOptions {
   //   ring_quads              min_size_px, min_hole finite >= 0; max_size_px, max_fill finite > 0;
   //   coarse_pass             min_contrast [0, 1]; min_tag_px finite >= 0;
   //   dark_outlines           min_size_px finite >= 0, max_size_px finite > 0; 2 <= min_groups <= max_groups;
-  //   camera                  fx, fy finite > 0, cx, cy finite; tag_size finite, > 0 with a camera, >= 0
-  //                           without; distortion only with a camera, finite;
+  //   camera                  fx, fy in [0.01, 1e8] px, cx, cy in [0, 1e8] px; tag_size in [1e-6, 1e6] m
+  //                           with a camera, finite >= 0 without; distortion only with a camera, each
+  //                           coefficient in [-1e4, 1e4];
   //   max_pixels              1..kMaxPixelsCeiling.
   // validate() loads `families` (load_family, whose errors name the family) for the max_hamming
   // rule; validate(loaded) takes them already loaded, in the same order. Detector's constructor calls it.

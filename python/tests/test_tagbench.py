@@ -74,7 +74,11 @@ class DetectTest(unittest.TestCase):
     def test_options_are_validated(self):
         for kwargs, words in (({"max_hamming": 11}, "max_hamming = 11"), ({"families": ["nope"]}, "unknown family"),
                               ({"camera": (0, 500, 10, 10), "tag_size": 0.1}, "camera"),
-                              ({"min_decision_margin": 2}, "min_decision_margin"), ({"profile": "fast"}, "profile")):
+                              ({"min_decision_margin": 2}, "min_decision_margin"), ({"profile": "fast"}, "profile"),
+                              # as the command line: a pose needs both, and the camera's bounds
+                              ({"tag_size": 1.0}, "tag_size: given without camera"),
+                              ({"camera": (500, 500, 10, 10)}, "camera: poses need tag_size"),
+                              ({"camera": (500, 500, -1, 10), "tag_size": 0.1}, "camera.cx = -1")):
             with self.assertRaises(ValueError) as cm:
                 tagbench.Detector(**kwargs)
             self.assertIn(words, str(cm.exception))

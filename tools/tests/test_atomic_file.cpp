@@ -3,6 +3,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <stdexcept>
 #include <string>
 
 #include "tools/atomic_file.hpp"
@@ -47,6 +51,28 @@ TEST(OwnerTag, NamesThatStartWithATag) {
   EXPECT_FALSE(owner_prefix_is_gone(alive + "-fakepkg"));
   EXPECT_FALSE(owner_prefix_is_gone("x-" + dead + "-rest"));
   EXPECT_FALSE(owner_prefix_is_gone("plain"));
+}
+
+TEST(WriteFileAtomic, WritesThroughSymlinksAndRefusesDevicesAndFifos) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("tagbench-atomic-" + owner_tag());
+  fs::remove_all(dir);
+  fs::create_directories(dir / "sub");
+  tagbench::write_file_atomic(dir / "sub" / "real.txt", "old");
+  fs::create_symlink(fs::path("sub") / "real.txt", dir / "link.txt");  // relative to the link's folder
+  tagbench::write_file_atomic(dir / "link.txt", "new");
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "link.txt")));
+  EXPECT_EQ(tagbench::read_file(dir / "sub" / "real.txt"), "new");
+  fs::create_symlink(dir / "sub" / "absent.txt", dir / "dangling.txt");  // a dangling link: its file is made
+  tagbench::write_file_atomic(dir / "dangling.txt", "made");
+  EXPECT_EQ(tagbench::read_file(dir / "sub" / "absent.txt"), "made");
+  ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0644), 0);
+  EXPECT_THROW(tagbench::write_file_atomic(dir / "fifo", "x"), std::runtime_error);
+  EXPECT_TRUE(fs::is_fifo(fs::status(dir / "fifo")));
+  EXPECT_THROW(tagbench::write_file_atomic(dir / "sub", "x"), std::runtime_error);
+  EXPECT_THROW(tagbench::write_files_atomic({{dir / "a.txt", "a"}, {"/dev/null", "b"}}), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir / "a.txt"));  // nothing of the set written
+  fs::remove_all(dir);
 }
 
 }  // namespace test_atomic_file

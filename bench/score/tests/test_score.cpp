@@ -162,6 +162,17 @@ TEST(Score, EveryFaultIsOneLineNamingTheImage) {
                         "\"corners\": [[1, 2], [3, 4], [5, 6]]}]}\n"),
             "det.jsonl line 1: detections[0]: corners: expected 4 points [x, y]");
   EXPECT_EQ(error_of(d, "{\"detections\": []}\n"), "det.jsonl line 1: the line: no member 'image'");
+  const auto with_R = [](const std::string& R) {
+    return "{\"image\": \"frame_00000.png\", \"detections\": [{\"family\": \"36h11\", \"id\": 1, "
+           "\"corners\": [[1, 2], [3, 4], [5, 6], [7, 8]], \"pose\": {\"R\": " + R + ", \"t\": [0, 0, 1]}}]}\n";
+  };
+  EXPECT_EQ(error_of(d, with_R("[[2, 0, 0], [0, 2, 0], [0, 0, 2]]")),
+            "det.jsonl line 1: detections[0]: pose.R: not a rotation (R^T R differs from I by 3.000000)");
+  EXPECT_EQ(error_of(d, with_R("[[1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300]]")).substr(0, 57),
+            "det.jsonl line 1: detections[0]: pose.R: not a rotation (");
+  // Six significant digits of a rotation (0.6, 0.8: 30 degrees' neighbour) pass.
+  EXPECT_NE(error_of(d, with_R("[[0.600000, -0.800000, 0], [0.800000, 0.600000, 0], [0, 0, 1]]")).find("no line for"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <numeric>
 #include <random>
 
@@ -118,6 +119,12 @@ TEST(Families, RegistryKnowsAllShippedAndRivalFamilies) {
   EXPECT_EQ(canonical_family_name("tagged.fam"), "tagged.fam");  // only "tag" before a digit goes
   EXPECT_THROW(builtin_family("36h99"), std::invalid_argument);
   EXPECT_THROW(load_family("/no/such/file.fam"), std::invalid_argument);
+  try {  // a folder given for a family file is named as one
+    load_family(std::filesystem::temp_directory_path().string() + "/");
+    ADD_FAILURE() << "a directory loaded as a family";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(": is a directory"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TagFamily, MaxPayloadWidthIsTheWidestFamilys) {

@@ -2,6 +2,10 @@
 // field and give the value), the boundaries that must pass, and the constructor calling it.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
+#include <filesystem>
+
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -50,7 +54,8 @@ TEST(DetectorOptions, EveryFieldIsChecked) {
   // validate() leaves its case accepted and fails here).
   const std::vector<Case> cases = {
       {"max_hamming", [](DetectorOptions& o) { o.max_hamming = -1; }, "-1"},
-      {"max_hamming", [](DetectorOptions& o) { o.max_hamming = 11; }, "11"},  // 36h11: h - 1 = 10
+      {"max_hamming", [](DetectorOptions& o) { o.hamming_by_family = false, o.max_hamming = 11; }, "11"},  // 36h11: h - 1 = 10
+      {"max_hamming", [](DetectorOptions& o) { o.max_hamming = 17; }, "17"},  // by family: a cap, 0..16
       {"min_decision_margin", [](DetectorOptions& o) { o.min_decision_margin = 1.5; }, "1.5"},
       {"min_decision_margin", [](DetectorOptions& o) { o.min_decision_margin = kNaN; }, "nan"},
       {"seg_sigma", [](DetectorOptions& o) { o.seg_sigma = -0.1; }, "-0.1"},
@@ -206,6 +211,11 @@ TEST(DetectorOptions, EveryFieldIsChecked) {
       {"tag_size", [](DetectorOptions& o) { o.tag_size = -1; }, "-1"},
       {"distortion.k1", [](DetectorOptions& o) { o = with_camera(), o.distortion = {{kNaN, 0, 0, 0, 0}}; }, "nan"},
       {"distortion.k3", [](DetectorOptions& o) { o = with_camera(), o.distortion = {{0, 0, 0, 0, kInf}}; }, "inf"},
+      // Finite but beyond any camera or tag: the pose's arithmetic overflowed into non-rotations.
+      {"camera.fx", [](DetectorOptions& o) { o = with_camera(), o.camera->fx = 1e-300; }, "1e-300"},
+      {"camera.cy", [](DetectorOptions& o) { o = with_camera(), o.camera->cy = -1; }, "-1"},
+      {"tag_size", [](DetectorOptions& o) { o = with_camera(), o.tag_size = 1e300; }, "1e+300"},
+      {"distortion.k1", [](DetectorOptions& o) { o = with_camera(), o.distortion = {{1e300, 0, 0, 0, 0}}; }, "1e+300"},
       {"pose_choice.gentle_max_alternative_rms_px",
        [](DetectorOptions& o) { o.pose_choice.gentle_max_alternative_rms_px = -1; }, "-1"},
       {"pose_choice.gentle_samples_per_cell", [](DetectorOptions& o) { o.pose_choice.gentle_samples_per_cell = 0; }, "0"},
@@ -283,12 +293,30 @@ TEST(DetectorOptions, MaxHammingBelowEveryFamilysDistance) {
   o.max_hamming = 4;
   EXPECT_NO_THROW(o.validate(loaded));
   EXPECT_THROW(o.validate(std::span(loaded).first(1)), std::invalid_argument);  // not what families names
-  // By family each family is capped at (h - 1) / 3 anyway: only the largest distance bounds it.
+  // By family each family is capped at (h - 1) / 3, below its distance whatever max_hamming is: it is
+  // only a cap, 0..kMaxBitsCorrected, even for a family of distance 2 alone (artoolkitplus-bch, which
+  // then corrects nothing; the default profile's 3 once refused it).
   o.hamming_by_family = true;
-  o.max_hamming = 10;
+  o.max_hamming = kMaxBitsCorrected;
   EXPECT_EQ(message(o), "");
-  o.max_hamming = 11;
-  EXPECT_EQ(message(o), "max_hamming = 11: must be in 0..10 (below the minimum Hamming distance 11 of family 36h11)");
+  o.max_hamming = kMaxBitsCorrected + 1;
+  EXPECT_EQ(message(o), "max_hamming = 17: must be in 0..16");
+  DetectorOptions bch;
+  bch.families = {"artoolkitplus-bch"};
+  EXPECT_EQ(message(bch), "");
+  EXPECT_EQ(bch.bits_corrected(builtin_family("artoolkitplus-bch").min_hamming()), 0);
+}
+
+TEST(DetectorOptions, TwoFamiliesOfOneNameAreRefused) {
+  // A family file whose header names a built-in family: a detection could not say which it is.
+  const std::filesystem::path f = std::filesystem::temp_directory_path() / "tagbench-options-shadow.fam";
+  std::ofstream(f) << "name: 25h9\nbits: 16\nhamming: 5\ncomplexity: 0\ncount: 1\n0x231b\n";
+  DetectorOptions o;
+  o.families = {f.string(), "25h9"};
+  EXPECT_EQ(message(o), "families: '" + f.string() + "' and '25h9' are both named '25h9': a detection could not say which");
+  o.families = {f.string()};
+  EXPECT_EQ(message(o), "");
+  std::filesystem::remove(f);
 }
 
 }  // namespace test_detector_options
