@@ -358,10 +358,14 @@ int cmd_detect(const Words& words) {
   if (a.positionals().empty()) throw UsageError("no input given (images, directories or videos)");
   Settings s = parse_settings(a);
   std::vector<std::string> inputs = a.positionals();
+  if (inputs.size() > 1 && std::find(inputs.begin(), inputs.end(), "-") != inputs.end())
+    throw UsageError("-: the paths from stdin are the only input when given (no other inputs beside '-')");
   if (inputs.size() == 1 && inputs[0] == "-") {  // the paths on stdin, one a line (as the experiments' external detectors get them)
     inputs.clear();
-    for (std::string l; std::getline(std::cin, l);)
+    for (std::string l; std::getline(std::cin, l);) {
+      if (!l.empty() && l.back() == '\r') l.pop_back();  // a list written on Windows
       if (!l.empty()) inputs.push_back(l);
+    }
     if (inputs.empty()) throw UsageError("-: no input paths on stdin");
   }
 

@@ -74,7 +74,7 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        with its pixel classes and the boundary groups within 10 px: a group far wider
                        than the tag, the square joined to its surroundings; none, square and ring not
                        classed apart; --profile paper: segments within 50 px), no_segment (gradient
-                       clusters within 50 px), no_cluster. JSON: an "explain" list in each image (below);
+                       clusters within 50 px), no_cluster. JSON and JSON lines: an "explain" list in each image (below);
                        CSV: one line per point on stderr, "tagbench detect: INPUT: explain X,Y: STAGE: text"
 
 Errors: an input that cannot be read (missing, unreadable, 0 bytes, corrupt) prints one line on stderr
@@ -109,7 +109,8 @@ JSON lines (--format jsonl; what `tagbench score` and the experiments' external 
 line per input image, in input order:
   {"image": path or "video#frameN", "width": W, "height": H, "ms": wall time,
    "detections": [{"family", "id", "hamming", "decision_margin", "corners": [[x,y] x4: printed TL, TR,
-                   BR, BL], "pose": {"R": [[3] x3], "t": [x,y,z]} (with --camera)}]}
+                   BR, BL], "pose": {"R": [[3] x3], "t": [x,y,z]} (with --camera)}],
+   "explain": [...] (with --explain, as in the JSON document)}
 and for an input that cannot be read {"image": path, "error": message} (also on stderr; exit status 1).
 
 CSV output: a header row, then one row per detection:

@@ -150,7 +150,13 @@ void Sink::emit_jsonl(const Outcome& o) {
            json_number(d.pose->pose.t.y()) + ", " + json_number(d.pose->pose.t.z()) + "]}";
     s += "}";
   }
-  put(s + "]}\n");
+  s += "]";
+  if (!s_.explain.empty()) {  // as in the JSON document
+    s += ", \"explain\": [";
+    for (std::size_t i = 0; i < o.explained.size(); ++i) s += (i ? ", " : "") + explanation_json(o.explained[i]);
+    s += "]";
+  }
+  put(s + "}\n");
 }
 
 void Sink::emit_csv(const Outcome& o) {

@@ -345,6 +345,8 @@ const std::vector<Case>& cases() {
       {"detect_format_xml", kTag, {"detect", "--format", "xml", "tag.png"}, 2, {"--format xml: use json, jsonl or csv"}},
       {"detect_unknown_option", kTag, {"detect", "--sigma", "-1", "tag.png"}, 2, {"unknown option '--sigma'"}},
       {"detect_missing_option_value", kTag, {"detect", "tag.png", "--family"}, 2, {"--family needs a value"}},
+      {"detect_stdin_beside_other_inputs", kTag, {"detect", "-", "tag.png"}, 2,
+       {"-: the paths from stdin are the only input"}},
       // --- detect: outputs ---
       {"detect_draw_under_a_regular_file", all({kTag, kRegularFile}), {"detect", "tag.png", "--draw", "file.txt/drawn.png"},
        1, {"tag.png: cannot write file.txt/drawn.png"}},

@@ -79,6 +79,13 @@ TEST(CliExplain, ADetectedTagAndAnotherIdThere) {
   for (int rot = 0; rot < 4; ++rot)
     expect = std::min(expect, hamming(fam.codes()[7], rotate(fam.codes()[8], 6, rot)));
   EXPECT_EQ(field(r.out, "bits_wrong", second), std::to_string(expect));
+  // JSON lines carry the same list, one line per image.
+  const auto lines = run(img.string() + " --format jsonl --explain 150,120");
+  ASSERT_EQ(lines.code, 0) << lines.err;
+  EXPECT_EQ(std::count(lines.out.begin(), lines.out.end(), '\n'), 1) << lines.out;
+  const auto in_line = lines.out.find("\"explain\": [");
+  ASSERT_NE(in_line, std::string::npos) << lines.out;
+  EXPECT_EQ(field(lines.out, "stage", in_line), "detected");
   // Without --explain the output has no "explain" key.
   const auto plain = run(img.string());
   ASSERT_EQ(plain.code, 0);
