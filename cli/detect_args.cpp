@@ -78,9 +78,12 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        CSV: one line per point on stderr, "tagbench detect: INPUT: explain X,Y: STAGE: text"
 
 Errors: an input that cannot be read (missing, unreadable, 0 bytes, corrupt) prints one line on stderr
-naming it, the other inputs are still processed, and the exit status is 1. Bad options exit with 2.
-A 1-pixel image is valid and has no detections. Files are written atomically; nothing is written for
-a failed input.
+naming it, the other inputs are still processed, and the exit status is 1 (so does a video frame that
+cannot be decoded before the video's declared end). Bad options, a family that cannot be loaded
+included, exit with 2. A 1-pixel image is valid and has no detections. Files are written atomically;
+nothing is written for a failed input. SIGINT or SIGTERM: the images begun are finished and printed,
+an error for the input named (interrupted) is added, the output is closed whole; exit status 130 or
+143.
 
 JSON output (one document for the whole run):
   {"tool": "tagbench detect",
