@@ -2,9 +2,15 @@
 
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <cmath>
 
 namespace tagbench::cli {
+
+std::string why_not_directory(const std::string& p) {
+  std::error_code ec;
+  return std::filesystem::exists(p, ec) ? "not a directory" : "no such directory";
+}
 
 std::string one_line(const std::string& s, bool escape) {
   std::string out;

@@ -15,6 +15,9 @@ namespace tagbench::cli {
 // escaped (`escape`, as \xNN) or as spaces, so every error stays on its own line.
 std::string one_line(const std::string& s, bool escape);
 
+// Why `p` is not a directory one can use: "no such directory", or "not a directory" when it exists.
+std::string why_not_directory(const std::string& p);
+
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };

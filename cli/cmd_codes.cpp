@@ -33,7 +33,7 @@ int cmd_codes(const Words& w) {
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   const std::filesystem::path dir = a.get_or("out", "results");
   const int threads = static_cast<int>(a.get_int("threads", 0, 0, 1024));
-  if (!std::filesystem::is_directory(dir)) throw UsageError("--out " + dir.string() + ": no such directory");
+  if (!std::filesystem::is_directory(dir)) throw UsageError("--out " + dir.string() + ": " + why_not_directory(dir.string()));
   // Compute everything first, then write: a failure leaves no partial set.
   const auto table = code_table(threads);
   const auto fp = fp_theory();
@@ -83,7 +83,7 @@ int cmd_generator_speed(const Words& w) {
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   const std::filesystem::path out = a.get_or("out", "results/generator_speed.csv");
   if (!std::filesystem::is_directory(std::filesystem::absolute(out).parent_path()))
-    throw UsageError("--out " + out.string() + ": no such directory");
+    throw UsageError("--out " + out.string() + ": " + why_not_directory(out.string()));
   std::vector<int> threads;
   for (const auto& t : split_commas(a.get_or("threads", "1," + std::to_string(hardware_threads()))))
     threads.push_back(static_cast<int>(parse_int("--threads", t, 1, 1024)));

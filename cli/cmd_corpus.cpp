@@ -102,12 +102,12 @@ int corpus_build(const Words& w) {
   o.out = a.get_or("out", "corpus");
   if (auto v = a.get("lists")) {
     o.lists = *v;
-    if (!std::filesystem::is_directory(o.lists)) throw UsageError("--lists " + *v + ": no such directory");
+    if (!std::filesystem::is_directory(o.lists)) throw UsageError("--lists " + *v + ": " + why_not_directory(*v));
   }
   if (auto v = a.get("cache")) o.cache = *v;
   if (auto v = a.get("debs")) {
     o.debs = *v;
-    if (!std::filesystem::is_directory(o.debs)) throw UsageError("--debs " + *v + ": no such directory");
+    if (!std::filesystem::is_directory(o.debs)) throw UsageError("--debs " + *v + ": " + why_not_directory(*v));
   }
   if (auto v = a.get("packages")) {
     o.packages = split_commas(*v);
@@ -131,7 +131,7 @@ int corpus_list(const Words& w) {
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   const auto from = a.get("from");
   if (!from) throw UsageError("--from DIR is required");
-  if (!std::filesystem::is_directory(*from)) throw UsageError("--from " + *from + ": no such directory");
+  if (!std::filesystem::is_directory(*from)) throw UsageError("--from " + *from + ": " + why_not_directory(*from));
   const auto scan = corpus::scan_folder(*from);
   std::printf("status\tfile\twidth\theight\treason\n");
   for (const auto& i : scan.images)
@@ -155,7 +155,7 @@ int corpus_candidates(const Words& w) {
       throw UsageError(std::string("--shard ") + e.what());
     }
   }
-  if (!std::filesystem::is_directory(*dir)) throw UsageError("--corpus " + *dir + ": no such directory");
+  if (!std::filesystem::is_directory(*dir)) throw UsageError("--corpus " + *dir + ": " + why_not_directory(*dir));
   // Each shard gets its own default name, so shards run into one folder do not overwrite each other.
   const std::string default_name =
       shard ? "corpus_candidates-shard-" + std::to_string(shard->index) + "-of-" + std::to_string(shard->count) + ".bin"

@@ -98,13 +98,13 @@ Common:
 std::string corpus_arg(const Args& a) {
   const auto dir = a.get("corpus");
   if (!dir) throw UsageError("--corpus DIR is required");
-  if (!std::filesystem::is_directory(*dir)) throw UsageError("--corpus " + *dir + ": no such directory");
+  if (!std::filesystem::is_directory(*dir)) throw UsageError("--corpus " + *dir + ": " + why_not_directory(*dir));
   return *dir;
 }
 
 std::filesystem::path out_dir(const Args& a) {
   const std::filesystem::path dir = a.get_or("out", "results");
-  if (!std::filesystem::is_directory(dir)) throw UsageError("--out " + dir.string() + ": no such directory");
+  if (!std::filesystem::is_directory(dir)) throw UsageError("--out " + dir.string() + ": " + why_not_directory(dir.string()));
   return dir;
 }
 

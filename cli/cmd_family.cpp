@@ -140,6 +140,7 @@ int do_generate(const Words& w) {
   const auto seed = a.get_int("seed", INT64_MIN, INT64_MAX);
   const std::optional<std::string> order = a.get("order");
   const std::optional<std::string> ckpt = a.get("checkpoint");
+  if (a.has("checkpoint-seconds") && !ckpt) throw UsageError("--checkpoint-seconds needs --checkpoint FILE");
   if (a.flag("resume")) {
     if (!ckpt) throw UsageError("--resume needs --checkpoint FILE");
     Checkpoint c = read_checkpoint(*ckpt);
@@ -181,7 +182,7 @@ int do_generate(const Words& w) {
     if (!path) continue;
     const auto dir = std::filesystem::absolute(*path).parent_path();
     if (!std::filesystem::is_directory(dir))
-      throw UsageError(std::string(opt) + " " + *path + ": no such directory " + dir.string());
+      throw UsageError(std::string(opt) + " " + *path + ": " + why_not_directory(dir.string()) + " " + dir.string());
   }
 
   std::string name = a.get_or("name", "");

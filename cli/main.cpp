@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <string>
 
 #include "cli/args.hpp"
@@ -103,6 +104,14 @@ int main(int argc, char** argv) {
     } catch (const tagbench::cli::UsageError& e) {  // one line: a newline in a name is shown escaped
       std::fprintf(stderr, "tagbench %s: %s\n", c.name, tagbench::cli::one_line(e.what(), true).c_str());
       return 2;
+    } catch (const std::filesystem::filesystem_error& e) {
+      // "filesystem error: OPERATION: REASON [PATH]" as "PATH: OPERATION: REASON", like our own messages.
+      std::string what = e.what();
+      if (what.starts_with("filesystem error: ")) what = what.substr(18);
+      if (const auto bracket = what.find(" ["); bracket != std::string::npos && !e.path1().empty()) what.resize(bracket);
+      if (!e.path1().empty()) what = e.path1().string() + ": " + what;
+      std::fprintf(stderr, "tagbench %s: %s\n", c.name, tagbench::cli::one_line(what, true).c_str());
+      return 1;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "tagbench %s: %s\n", c.name, tagbench::cli::one_line(e.what(), true).c_str());
       return 1;

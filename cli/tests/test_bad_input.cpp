@@ -396,9 +396,12 @@ const std::vector<Case>& cases() {
        {"--threads: 0 is outside 1..1024"}},
       {"family_generate_out_under_a_regular_file", kRegularFile,
        {"family", "generate", "--bits", "16", "--hamming", "5", "--out", "file.txt/g.fam"}, 2,
-       {"--out file.txt/g.fam: no such directory"}},
+       {"--out file.txt/g.fam: not a directory"}},
       {"family_generate_disk_full", {}, {"family", "generate", "--bits", "16", "--hamming", "5", "--out", "g.fam"}, 1,
        {"cannot write g.fam", "File too large"}, {.fsize = 256}},
+      {"family_generate_checkpoint_seconds_without_checkpoint", {},
+       {"family", "generate", "--bits", "16", "--hamming", "5", "--checkpoint-seconds", "5", "--out", "g.fam"}, 2,
+       {"--checkpoint-seconds needs --checkpoint FILE"}},
       {"family_generate_resume_without_checkpoint_file", {},
        {"family", "generate", "--resume", "--checkpoint", "missing.ckpt"}, 1, {"missing.ckpt: cannot open"}},
 
@@ -411,7 +414,7 @@ const std::vector<Case>& cases() {
 
       // --- codes ---
       {"codes_out_missing_folder", {}, {"codes", "--out", "nowhere"}, 2, {"--out nowhere: no such directory"}},
-      {"codes_out_is_a_regular_file", kRegularFile, {"codes", "--out", "file.txt"}, 2, {"--out file.txt: no such directory"}},
+      {"codes_out_is_a_regular_file", kRegularFile, {"codes", "--out", "file.txt"}, 2, {"--out file.txt: not a directory"}},
       {"codes_threads_negative", folder("res"), {"codes", "--out", "res", "--threads", "-1"}, 2,
        {"--threads: -1 is outside 0..1024"}},
       {"codes_disk_full", folder("res"), {"codes", "--out", "res"}, 1, {"cannot write res/fig5_hamming.csv", "File too large"},
@@ -456,7 +459,7 @@ const std::vector<Case>& cases() {
       // --- corpus ---
       {"corpus_list_missing_folder", {}, {"corpus", "list", "--from", "nowhere"}, 2, {"--from nowhere: no such directory"}},
       {"corpus_list_from_a_regular_file", kRegularFile, {"corpus", "list", "--from", "file.txt"}, 2,
-       {"--from file.txt: no such directory"}},
+       {"--from file.txt: not a directory"}},
       {"corpus_candidates_missing_folder", {}, {"corpus", "candidates", "--corpus", "nowhere"}, 2,
        {"--corpus nowhere: no such directory"}},
       {"corpus_candidates_jobs_0", all({kTag, folder("c")}), {"corpus", "candidates", "--corpus", "c", "--jobs", "0"}, 2,

@@ -25,9 +25,16 @@ TagFamily::TagFamily(FamilyInfo info, std::vector<Code> codes, bool check_distan
   if (info_.bits > 64) throw std::invalid_argument(who + "bits " + std::to_string(info_.bits) + " is over 64");
   d_ = width_of(info_.bits);
   if (d_ < 2) throw std::invalid_argument(who + "bits " + std::to_string(info_.bits) + " is not a square payload");
-  if (info_.min_hamming < 0 || info_.min_hamming > info_.bits)
-    throw std::invalid_argument(who + "hamming " + std::to_string(info_.min_hamming) + " is larger than bits " +
-                                std::to_string(info_.bits));
+  if (info_.name.empty()) throw std::invalid_argument("family: the name is empty");
+  for (const char ch : info_.name)  // a name is printed in headers, CSV cells and one-line messages
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f)
+      throw std::invalid_argument("family: the name holds a control character (a line break)");
+  if (info_.min_hamming < 1 || info_.min_hamming > info_.bits)
+    throw std::invalid_argument(who + "hamming " + std::to_string(info_.min_hamming) + " is outside 1..bits (" +
+                                std::to_string(info_.bits) + ")");
+  if (info_.min_complexity < 0 || info_.min_complexity > info_.bits)
+    throw std::invalid_argument(who + "complexity " + std::to_string(info_.min_complexity) + " is outside 0..bits (" +
+                                std::to_string(info_.bits) + ")");
   if (codes_.empty()) throw std::invalid_argument(who + "has no codes");
   const Code mask = low_mask(info_.bits);
   words_.reserve(codes_.size() * 4);

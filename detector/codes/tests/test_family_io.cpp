@@ -68,7 +68,12 @@ TEST(FamilyIo, BadFilesAreRefusedWithTheProblemNamed) {
   expect_error(replace(kGood, "hamming: 5", "hamming: 9"), "closer than h=9");
   expect_error(replace(kGood, "bits: 16", "bits: 20"), "not a square");
   expect_error(replace(kGood, "bits: 16", "bits: 100"), "over 64");
-  expect_error(replace(kGood, "hamming: 5", "hamming: 17"), "larger than bits");
+  expect_error(replace(kGood, "hamming: 5", "hamming: 17"), "hamming 17 is outside 1..bits (16)");
+  expect_error(replace(kGood, "hamming: 5", "hamming: -5"), "hamming -5 is outside 1..bits (16)");
+  expect_error(replace(kGood, "hamming: 5", "hamming: 0"), "hamming 0 is outside 1..bits (16)");
+  expect_error(replace(kGood, "complexity: 5", "complexity: 99"), "complexity 99 is outside 0..bits (16)");
+  expect_error(replace(kGood, "complexity: 5", "complexity: -3"), "complexity -3 is outside 0..bits (16)");
+  expect_error(replace(kGood, "name: mini", "name: "), "the name is empty");
   expect_error(replace(kGood, "name: mini\n", ""), "missing header key 'name'");
   expect_error(replace(kGood, "seed: 160505", "colour: blue"), "unknown header key 'colour'");
   expect_error(replace(kGood, "hamming: 5", "hamming: five"), "'hamming' is not an integer");
