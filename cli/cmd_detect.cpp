@@ -163,7 +163,16 @@ class Processor {
       o.detections = detect(det_, img, ws, debug || !s_.explain.empty() ? &trace : nullptr);
       o.detect_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
-      for (const ExplainPoint& p : s_.explain) o.explained.push_back(explain_point(p, trace, o.detections, det_));
+      for (const ExplainPoint& p : s_.explain) {
+        // Pixel centres at integers: the image covers [-0.5, W - 0.5] x [-0.5, H - 0.5].
+        if (!(p.at.x() >= -0.5 && p.at.y() >= -0.5 && p.at.x() <= o.width - 0.5 && p.at.y() <= o.height - 0.5)) {
+          o.explained.push_back({p.spec, p.at, "outside_image", -1, -1,
+                                 "the point is outside the image (" + std::to_string(o.width) + " x " +
+                                     std::to_string(o.height) + " px)"});
+          continue;
+        }
+        o.explained.push_back(explain_point(p, trace, o.detections, det_));
+      }
 
       // Pictures: everything encoded first, then written (each atomically); on a failure the
       // pictures already written for this input are removed, so a failed input leaves nothing.

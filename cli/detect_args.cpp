@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "codes/families.hpp"
 #include "tools/format.hpp"
 #include "tools/sysinfo.hpp"
 
@@ -74,7 +75,9 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        with its pixel classes and the boundary groups within 10 px: a group far wider
                        than the tag, the square joined to its surroundings; none, square and ring not
                        classed apart; --profile paper: segments within 50 px), no_segment (gradient
-                       clusters within 50 px), no_cluster. JSON and JSON lines: an "explain" list in each image (below);
+                       clusters within 50 px), no_cluster; outside_image for a point off the image. A
+                       FAMILY not searched (--family) is a usage error. JSON and JSON lines: an
+                       "explain" list in each image (below);
                        CSV: one line per point on stderr, "tagbench detect: INPUT: explain X,Y: STAGE: text"
 
 Errors: an input that cannot be read (missing, unreadable, 0 bytes, corrupt) prints one line on stderr
@@ -199,7 +202,19 @@ Settings parse_settings(const Args& a) {
     if (fs::exists(*s.debug_dir, ec) && !fs::is_directory(*s.debug_dir, ec))
       throw UsageError("--debug-dir " + *d + ": exists and is not a directory");
   }
-  for (const auto& e : a.all("explain")) s.explain.push_back(parse_explain_point(e));
+  for (const auto& e : a.all("explain")) {
+    s.explain.push_back(parse_explain_point(e));
+    // A tag of a family not searched could only ever be "wrong_id": say so now.
+    if (const auto& f = s.explain.back().family) {
+      bool searched = false;
+      for (const auto& name : s.det.families)
+        try {
+          searched = searched || load_family(name).name() == f->name();
+        } catch (const std::exception&) {  // reported when the detector loads the families
+        }
+      if (!searched) throw UsageError("--explain " + e + ": family " + f->name() + " is not searched (add --family " + f->name() + ")");
+    }
+  }
   if (const auto d = a.get("draw")) {
     if (d->empty()) throw UsageError("--draw: empty path");
     s.draw = fs::path(*d);

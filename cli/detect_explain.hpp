@@ -44,7 +44,7 @@ ExplainPoint parse_explain_point(const std::string& text);
 struct PointExplanation {
   std::string spec;
   Eigen::Vector2d at{0, 0};
-  std::string stage;         // a loss_stage_name word, or "detected"
+  std::string stage;         // a loss_stage_name word, "detected" or (set by the caller) "outside_image"
   int bits_wrong = -1;       // with FAMILY:ID, misread / wrong_id: bits of its code read wrong
   int quad = -1;             // the candidate quad that speaks for the point (index in the trace), or -1
   std::string text;          // one line for people

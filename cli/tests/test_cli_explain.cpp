@@ -152,12 +152,20 @@ TEST(CliExplain, TheThresholdFindersNoQuadNamesTheClassesAndGroupsNearThePoint) 
 
 TEST(CliExplain, BadPointsAreUsageErrors) {
   const fs::path img = tag_image("bad.png", 0);
-  for (const std::string bad : {"1", "1,2,3,4", "x,2", "1,2,36h11", "1,2,36h11:587", "1,2,nofamily:1", "1,2,36h11:-1"}) {
+  for (const std::string bad :
+       {"1", "1,2,3,4", "x,2", "1,2,36h11", "1,2,36h11:587", "1,2,nofamily:1", "1,2,36h11:-1", "1,2,16h5:3"}) {
     const auto r = run(img.string() + " --explain " + bad);
     EXPECT_EQ(r.code, 2) << bad;
     EXPECT_EQ(r.err.rfind("tagbench detect: --explain " + bad + ": ", 0), 0u) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_TRUE(r.out.empty()) << bad;
+  }
+  // A point off the image is said to be, not explained as a place without quads.
+  const auto off = run(img.string() + " --explain -3,50 --explain 50,1e6");
+  ASSERT_EQ(off.code, 0) << off.err;
+  for (std::size_t at = off.out.find("\"stage\""), n = 0; n < 2; ++n, at = off.out.find("\"stage\"", at + 1)) {
+    ASSERT_NE(at, std::string::npos) << off.out;
+    EXPECT_EQ(field(off.out, "stage", at), "outside_image");
   }
 }
 
