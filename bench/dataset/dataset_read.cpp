@@ -1,6 +1,10 @@
 // read_dataset: a truth.json back into the sweep's frames (dataset.hpp).
+#include <cmath>
+#include <map>
 #include <stdexcept>
+#include <string>
 
+#include "codes/families.hpp"
 #include "dataset/dataset.hpp"
 #include "tools/atomic_file.hpp"
 #include "tools/json_read.hpp"
@@ -134,6 +138,21 @@ Dataset read_dataset(const std::filesystem::path& path) {
       s.sixdof.bins = x.at("bins", "settings.sixdof").integer("settings.sixdof.bins");
     }
     for (const auto& f : j.at("frames", "truth.json").array("frames")) d.frames.push_back(read_frame(f, d));
+    // What scoring relies on, checked here so that a bad truth file is named, not the detections.
+    if (d.frames.empty()) throw JsonError("frames: empty: the dataset has no frame to score");
+    if (s.tag_size && !(std::isfinite(*s.tag_size) && *s.tag_size > 0))
+      throw JsonError("settings.tag_size_m: must be > 0 (metres)");
+    const TagFamily family = load_family(s.family);  // names an unknown family
+    std::map<std::string, std::size_t> seen;
+    for (const DatasetFrame& f : d.frames) {
+      const std::string what = "frame " + std::to_string(f.index);
+      if (const auto [it, fresh] = seen.emplace(f.file, f.index); !fresh)
+        throw JsonError(what + ": file '" + f.file + "' is also frame " + std::to_string(it->second) + "'s");
+      if (f.frame.frame.id < 0 || static_cast<std::size_t>(f.frame.frame.id) >= family.size())
+        throw JsonError(what + ": id " + std::to_string(f.frame.frame.id) + " is not in family " + family.name());
+      if (!(std::isfinite(f.frame.frame.tag_size) && f.frame.frame.tag_size > 0))
+        throw JsonError(what + ": tag_size_m must be > 0 (metres)");
+    }
     if (const JsonValue* failed = j.find("failed"))
       for (const auto& f : failed->array("failed"))
         d.failed.push_back({static_cast<std::size_t>(f.at("index", "failed").uint64("failed: index")),

@@ -181,6 +181,18 @@ TEST(Dataset, BadTruthIsOneLineNamingTheFileAndFrame) {
   std::string escape = t;
   escape.replace(escape.find("frame_00000.png"), 15, "../escape.png");
   expect_error(escape, "frame 0: file: '../escape.png' is not a file name inside the dataset folder");
+  // What scoring relies on: distinct files, ids of the family, frames at all.
+  std::string twice = t;
+  twice.replace(twice.find("frame_00001.png"), 15, "frame_00000.png");
+  expect_error(twice, "frame 1: file 'frame_00000.png' is also frame 0's");
+  std::string far_id = t;
+  const auto id_at = far_id.find("\"id\": ", far_id.find("\"index\": 1"));
+  far_id.replace(id_at, far_id.find(',', id_at) - id_at, "\"id\": 99999");
+  expect_error(far_id, "frame 1: id 99999 is not in family 36h11");
+  std::string none = t;
+  const auto frames_at = none.find("\"frames\": [");
+  none.replace(frames_at, none.find("\n  ]", frames_at) + 4 - frames_at, "\"frames\": []");
+  expect_error(none, "frames: empty");
   write_file_atomic(dir.path() / "truth.json", t);
   EXPECT_EQ(read_dataset(dir.path()).frames.size(), 2u);
 }
