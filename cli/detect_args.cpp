@@ -1,5 +1,6 @@
 #include "cli/detect_args.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
@@ -157,7 +158,11 @@ Settings parse_settings(const Args& a) {
     s.det = *p;
   else
     throw UsageError("--profile " + s.profile + ": expected default, thorough or paper");
-  if (a.has("family")) s.det.families = a.all("family");
+  if (a.has("family")) {  // each once: `--family 36h11 --family 36h11` is one family, not two of one name
+    s.det.families.clear();
+    for (const auto& f : a.all("family"))
+      if (std::find(s.det.families.begin(), s.det.families.end(), f) == s.det.families.end()) s.det.families.push_back(f);
+  }
   if (a.has("max-hamming")) {  // the same bits for every family, as asked
     s.det.max_hamming = static_cast<int>(a.get_int("max-hamming", 1, 0, 16));
     s.det.hamming_by_family = false;

@@ -13,6 +13,7 @@ Found read_found(const JsonValue& j, const std::string& what) {
   Found f;
   f.family = j.at("family", what).string(what + ": family");
   f.id = j.at("id", what).integer(what + ": id");
+  if (f.id < 0) throw JsonError(what + ": id: " + std::to_string(f.id) + " is negative");
   const auto& corners = j.at("corners", what).array(what + ": corners");
   if (corners.size() != 4) throw JsonError(what + ": corners: expected 4 points [x, y]");
   for (std::size_t k = 0; k < 4; ++k) {
@@ -51,7 +52,10 @@ ImageDetections parse_detection_line(std::string_view l) {
   ImageDetections d;
   d.image = j.at("image", "the line").string("image");
   if (d.image.empty()) throw JsonError("image: empty");
-  if (const JsonValue* ms = j.find("ms"); ms && !ms->is_null()) d.ms = ms->number("ms");
+  if (const JsonValue* ms = j.find("ms"); ms && !ms->is_null()) {
+    d.ms = ms->number("ms");
+    if (!(d.ms >= 0)) throw JsonError("ms: " + std::to_string(d.ms) + " is negative (milliseconds)");
+  }
   if (const JsonValue* e = j.find("error"); e && !e->is_null()) {
     d.error = e->string("error");
   } else {

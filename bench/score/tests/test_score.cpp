@@ -162,6 +162,11 @@ TEST(Score, EveryFaultIsOneLineNamingTheImage) {
                         "\"corners\": [[1, 2], [3, 4], [5, 6]]}]}\n"),
             "det.jsonl line 1: detections[0]: corners: expected 4 points [x, y]");
   EXPECT_EQ(error_of(d, "{\"detections\": []}\n"), "det.jsonl line 1: the line: no member 'image'");
+  EXPECT_EQ(error_of(d, "{\"image\": \"frame_00000.png\", \"ms\": -5, \"detections\": []}\n"),
+            "det.jsonl line 1: ms: -5.000000 is negative (milliseconds)");
+  EXPECT_EQ(error_of(d, "{\"image\": \"frame_00000.png\", \"detections\": [{\"family\": \"36h11\", \"id\": -7, "
+                        "\"corners\": [[1, 2], [3, 4], [5, 6], [7, 8]]}]}\n"),
+            "det.jsonl line 1: detections[0]: id: -7 is negative");
   const auto with_R = [](const std::string& R) {
     return "{\"image\": \"frame_00000.png\", \"detections\": [{\"family\": \"36h11\", \"id\": 1, "
            "\"corners\": [[1, 2], [3, 4], [5, 6], [7, 8]], \"pose\": {\"R\": " + R + ", \"t\": [0, 0, 1]}}]}\n";
