@@ -80,8 +80,10 @@ ImageU8View view_of(const py::array& a) {
   if (a.strides(1) != 1 || a.strides(0) < a.shape(1))
     throw std::invalid_argument("image: rows must be contiguous (column stride 1, row stride >= width; use "
                                 "numpy.ascontiguousarray)");
-  if (a.shape(0) > 0x7fffffff || a.shape(1) > 0x7fffffff || a.strides(0) > 0x7fffffff)
+  if (a.shape(0) > 0x7fffffff || a.shape(1) > 0x7fffffff)
     throw std::invalid_argument("image: dimensions over 2^31 - 1");
+  if (a.strides(0) > 0x7fffffff)
+    throw std::invalid_argument("image: a row stride over 2^31 - 1 bytes (copy the view: numpy.ascontiguousarray)");
   return ImageU8View{static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)), static_cast<int>(a.strides(0)),
                      static_cast<const std::uint8_t*>(a.data())};
 }
