@@ -45,7 +45,7 @@ std::string frame_json(const SweepFrame& f, std::size_t index, Experiment e) {
                   ", \"condition\": " + json_string(condition_name(f.condition)) +
                   ", \"strength\": " + json_number(conditions ? f.step : 0.0) + ", \"step\": " + json_number(f.step) +
                   ", \"step_unit\": " + json_string(unit_of(f, e)) + ", \"trial\": " + std::to_string(f.trial) +
-                  ", \"seed\": " + std::to_string(f.seed) + ",\n     \"family\": " + json_string(f.frame.family) +
+                  ", \"seed\": " + std::to_string(f.seed) + ",\n     \"family\": " + json_string(f.frame.family_name.empty() ? f.frame.family : f.frame.family_name) +
                   ", \"id\": " + std::to_string(f.frame.id) + ", \"tag_size_m\": " + json_number(f.frame.tag_size) +
                   ",\n     \"R\": " + matrix(f.truth.pose.R) + ", \"t\": " +
                   json_numbers({f.truth.pose.t.x(), f.truth.pose.t.y(), f.truth.pose.t.z()}) +

@@ -1,6 +1,7 @@
 // read_dataset: a truth.json back into the sweep's frames (dataset.hpp).
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -142,14 +143,23 @@ Dataset read_dataset(const std::filesystem::path& path) {
     if (d.frames.empty()) throw JsonError("frames: empty: the dataset has no frame to score");
     if (s.tag_size && !(std::isfinite(*s.tag_size) && *s.tag_size > 0))
       throw JsonError("settings.tag_size_m: must be > 0 (metres)");
-    const TagFamily family = load_family(s.family);  // names an unknown family
+    // The ids are checked against the family when it can be loaded here: a family file the dataset
+    // was made with may live on another machine (the frames carry its name, what detectors report).
+    std::optional<TagFamily> family;
+    try {
+      family = load_family(s.family);
+    } catch (const std::invalid_argument&) {
+      if (s.family.find('/') == std::string::npos && !s.family.ends_with(".fam")) throw;  // an unknown name
+    }
     std::map<std::string, std::size_t> seen;
     for (const DatasetFrame& f : d.frames) {
       const std::string what = "frame " + std::to_string(f.index);
       if (const auto [it, fresh] = seen.emplace(f.file, f.index); !fresh)
         throw JsonError(what + ": file '" + f.file + "' is also frame " + std::to_string(it->second) + "'s");
-      if (f.frame.frame.id < 0 || static_cast<std::size_t>(f.frame.frame.id) >= family.size())
-        throw JsonError(what + ": id " + std::to_string(f.frame.frame.id) + " is not in family " + family.name());
+      if (family && (f.frame.frame.id < 0 || static_cast<std::size_t>(f.frame.frame.id) >= family->size()))
+        throw JsonError(what + ": id " + std::to_string(f.frame.frame.id) + " is not in family " + family->name());
+      if (family && canonical_family_name(f.frame.frame.family) != canonical_family_name(family->name()))
+        throw JsonError(what + ": family '" + f.frame.frame.family + "' is not the dataset's (" + family->name() + ")");
       if (!(std::isfinite(f.frame.frame.tag_size) && f.frame.frame.tag_size > 0))
         throw JsonError(what + ": tag_size_m must be > 0 (metres)");
     }

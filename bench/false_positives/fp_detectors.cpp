@@ -16,6 +16,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "codes/families.hpp"
+#include "tools/format.hpp"
 
 namespace tagbench::bench {
 
@@ -253,7 +254,7 @@ std::string fp_detectors_csv(const std::vector<FpDetectorRow>& rows) {
        "per_image_ci95_hi,per_megapixel,per_megapixel_ci95_lo,per_megapixel_ci95_hi,image_share,image_share_ci95_lo,"
        "image_share_ci95_hi,ms_per_image,megapixels_per_second\n";
   for (const auto& r : rows)
-    o << r.detector << ',' << r.family << ',' << r.subset << ',' << r.images << ',' << r.megapixels << ','
+    o << r.detector << ',' << csv_field(r.family) << ',' << r.subset << ',' << r.images << ',' << r.megapixels << ','
       << r.detections << ',' << r.images_with_detections << ',' << r.per_image << ',' << r.per_image_ci.lo << ','
       << r.per_image_ci.hi << ',' << r.per_megapixel << ',' << r.per_megapixel_ci.lo << ',' << r.per_megapixel_ci.hi
       << ',' << r.image_share << ',' << r.image_share_ci.lo << ',' << r.image_share_ci.hi << ',' << r.ms_per_image
@@ -275,7 +276,7 @@ std::string fp_detections_csv(const FpDetectorsRun& run) {
   o << "file,group,kind,detector,family,id,hamming,x0,y0,x1,y1,x2,y2,x3,y3,decision_margin\n";
   for (const auto& d : run.detections) {
     const auto& im = run.images[d.image];
-    o << quoted(im.file) << ',' << quoted(im.group) << ',' << im.kind << ',' << d.detector << ',' << d.family << ','
+    o << quoted(im.file) << ',' << quoted(im.group) << ',' << im.kind << ',' << d.detector << ',' << csv_field(d.family) << ','
       << d.id << ',' << d.hamming;
     for (const auto& c : d.corners) o << ',' << c.x() << ',' << c.y();
     o << ',';

@@ -193,7 +193,7 @@ std::string margin_summary_csv(const MarginTradeoff& t) {
   o << '\n';
   for (const auto& s : t.summary) {
     if (s.parts.size() != parts.size()) throw std::invalid_argument("families with different sweeps in one table");
-    o << s.family << ',' << kMarginDetector << ',' << format_cell(s.threshold, "%.4g") << ',' << s.images << ','
+    o << csv_field(s.family) << ',' << kMarginDetector << ',' << format_cell(s.threshold, "%.4g") << ',' << s.images << ','
       << format_cell(s.megapixels, "%.6g") << ',' << s.false_detections << ',' << format_cell(s.fp_per_image, "%.6g")
       << ',' << format_cell(s.fp_per_image_ci.lo, "%.6g") << ',' << format_cell(s.fp_per_image_ci.hi, "%.6g") << ','
       << s.images_with_false << ',' << format_cell(s.image_share, "%.6g") << ','
@@ -217,7 +217,7 @@ std::string margin_steps_csv(const MarginTradeoff& t) {
   o << "family,detector,threshold,part,step,step_unit,frames,detected,rate,rate_ci95_lo,rate_ci95_hi,"
        "black_square_px_median\n";
   for (const auto& s : t.steps)
-    o << s.family << ',' << kMarginDetector << ',' << format_cell(s.threshold, "%.4g") << ',' << s.part << ','
+    o << csv_field(s.family) << ',' << kMarginDetector << ',' << format_cell(s.threshold, "%.4g") << ',' << s.part << ','
       << format_cell(s.step, "%.6g") << ',' << s.step_unit << ',' << s.frames << ',' << s.detected << ','
       << format_cell(s.rate, "%.6g") << ',' << format_cell(s.rate_ci.lo, "%.6g") << ','
       << format_cell(s.rate_ci.hi, "%.6g") << ',' << format_cell(s.black_square_px_median, "%.4f") << '\n';

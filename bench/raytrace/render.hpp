@@ -50,6 +50,9 @@ const char* scene_name(SceneKind kind);  // "plain", "realistic"
 struct FramePose {
   Pose pose;                     // tag -> camera, metres, our conventions (pose.hpp); t.z() > 0
   std::string family = "36h11";  // a built-in family name or a family file
+  // The family's own name (a family file's `name:` header), what detectors report; empty: `family`.
+  // Not part of the cache key (the codes come from `family`).
+  std::string family_name;
   int id = 0;
   double tag_size = 0.166;       // edge of the black square, metres
   std::string extra_sdl;         // POV-Ray SDL added to this frame's #case (an occluder, ...); part of the cache key

@@ -73,7 +73,7 @@ std::string rows_csv(const SweepResult& r) {
     const SweepFrame& f = r.frames[row.frame];
     o += std::string(experiment_name(s.experiment)) + "," + condition_name(f.condition) + "," +
          format_cell(f.step, "%.10g") + "," + step_unit(f, s.experiment) + "," + std::to_string(f.trial) + "," +
-         std::to_string(f.seed) + "," + std::to_string(f.frame.id) + "," + scene_name(s.scene) + "," + f.frame.family +
+         std::to_string(f.seed) + "," + std::to_string(f.frame.id) + "," + scene_name(s.scene) + "," + csv_field(f.frame.family) +
          "," + format_cell(f.frame.tag_size, "%.10g") + "," + format_cell(f.frame.pose.t.norm(), "%.10g") + "," +
          format_cell(view_angle_deg(f.frame.pose), "%.6f") + "," + format_cell(f.view.tilt_axis_deg, "%.6f") + "," +
          format_cell(f.view.roll_deg, "%.6f") + "," + format_cell((sixdof ? f.image_position : f.view.pixel).x(), "%.4f") +

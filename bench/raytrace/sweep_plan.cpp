@@ -120,7 +120,7 @@ void resolve_sixdof(const SweepSettings& s, const std::string& what) {
   if (s.distance) throw std::invalid_argument(what + "takes a distance range, not a fixed distance");
   const SixdofSettings& x = s.sixdof;
   const auto num = [](double v) { return format_cell(v, "%.10g"); };
-  if (!(x.distance_min > 0) || !(x.distance_max >= x.distance_min) || !std::isfinite(x.distance_max))
+  if (!(x.distance_min > 0) || !(x.distance_max >= x.distance_min) || !(x.distance_max <= kMaxSweepDistance))
     throw std::invalid_argument("distance range must be 0 < A <= B metres (got " + num(x.distance_min) + "," +
                                 num(x.distance_max) + ")");
   if (!(x.phi_max_deg >= 0 && x.phi_max_deg < 90))
@@ -141,10 +141,15 @@ void resolve_sixdof(const SweepSettings& s, const std::string& what) {
 SweepSettings resolve_settings(const SweepSettings& in) {
   SweepSettings s = in;
   const std::string what = std::string(experiment_name(s.experiment)) + " sweep: ";
-  if (s.trials <= 0) throw std::invalid_argument("trials must be > 0 (got " + std::to_string(s.trials) + ")");
+  // Bounds far beyond any sweep, inside which the plan fits in memory (a frame's plan is some hundred
+  // bytes; 1e9 trials ran out of it) and the renderer's arithmetic stays well scaled.
+  const char* count = s.experiment == Experiment::kSixdof ? "frames" : "trials";
+  if (s.trials <= 0 || s.trials > kMaxSweepTrials)
+    throw std::invalid_argument(std::string(count) + " must be in 1.." + std::to_string(kMaxSweepTrials) + " (got " +
+                                std::to_string(s.trials) + ")");
   if (!s.tag_size) s.tag_size = s.experiment == Experiment::kDistance ? 1.0 : 0.166;
-  if (!(*s.tag_size > 0) || !std::isfinite(*s.tag_size))
-    throw std::invalid_argument("tag size must be > 0 metres (got " + format_cell(*s.tag_size, "%.10g") + ")");
+  if (!(*s.tag_size >= 1e-3 && *s.tag_size <= 1e3))
+    throw std::invalid_argument("tag size must be in [0.001, 1000] metres (got " + format_cell(*s.tag_size, "%.10g") + ")");
   const auto& known = comparator_names();
   for (const auto& e : s.external)
     if (std::find(known.begin(), known.end(), e.name) != known.end())
@@ -192,8 +197,8 @@ SweepSettings resolve_settings(const SweepSettings& in) {
     if (s.distance) throw std::invalid_argument(what + "its distances are its steps (not a fixed distance)");
   } else {
     if (!s.distance) s.distance = 1.0;
-    if (!(*s.distance > 0) || !std::isfinite(*s.distance))
-      throw std::invalid_argument("distance must be > 0 metres (got " + format_cell(*s.distance, "%.10g") + ")");
+    if (!(*s.distance > 0 && *s.distance <= kMaxSweepDistance))
+      throw std::invalid_argument("distance must be in (0, 1e6] metres (got " + format_cell(*s.distance, "%.10g") + ")");
   }
   if (s.experiment != Experiment::kConditions) {
     if (s.steps.empty()) s.steps = default_steps(s.experiment);
@@ -201,8 +206,8 @@ SweepSettings resolve_settings(const SweepSettings& in) {
     for (const double v : s.steps) {
       if (s.experiment == Experiment::kAngle && !(v >= 0 && v < 90))
         throw std::invalid_argument("angle " + format_cell(v, "%.10g") + " is outside [0, 90) degrees");
-      if (s.experiment == Experiment::kDistance && (!(v > 0) || !std::isfinite(v)))
-        throw std::invalid_argument("distance must be > 0 metres (got " + format_cell(v, "%.10g") + ")");
+      if (s.experiment == Experiment::kDistance && !(v > 0 && v <= kMaxSweepDistance))
+        throw std::invalid_argument("distance must be in (0, 1e6] metres (got " + format_cell(v, "%.10g") + ")");
       if (!steps.insert(v).second) throw std::invalid_argument("step " + format_cell(v, "%.10g") + " given twice");
     }
   }
@@ -260,6 +265,7 @@ std::vector<SweepFrame> plan_sweep(const SweepSettings& in) {
     f.view = view;
     f.frame.pose = view_pose(view);
     f.frame.family = s.family;
+    f.frame.family_name = family.name();
     f.frame.id = d.id;
     f.frame.tag_size = tag;
     f.truth = ground_truth(f.frame);

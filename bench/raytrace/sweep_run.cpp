@@ -48,7 +48,8 @@ SweepRow score_frame(std::span<const Found> found, double ms, const std::string&
   const Found* best = nullptr;
   FoundErrors best_e;
   for (const Found& x : found) {
-    if (x.id != f.frame.id || canonical_family_name(x.family) != canonical_family_name(f.frame.family)) {
+    const std::string& truth_family = f.frame.family_name.empty() ? f.frame.family : f.frame.family_name;
+    if (x.id != f.frame.id || canonical_family_name(x.family) != canonical_family_name(truth_family)) {
       r.wrong_id = true;
       continue;
     }

@@ -111,6 +111,7 @@ std::vector<SweepFrame> plan_sixdof(const SweepSettings& s) {
     f.image_position = image;
     f.frame.pose = pose;
     f.frame.family = s.family;
+    f.frame.family_name = family.name();
     Rng rng{f.seed};
     f.frame.id = static_cast<int>(rng.next() % family.size());
     f.frame.tag_size = *s.tag_size;

@@ -82,6 +82,10 @@ struct SixdofSettings {
   int bins = 10;                // summaries and plot: bins per variable
 };
 
+// resolve_settings' ceilings: trials (sixdof: frames) per step, and distances in metres.
+inline constexpr int kMaxSweepTrials = 1000000;
+inline constexpr double kMaxSweepDistance = 1e6;
+
 struct SweepSettings {
   Experiment experiment = Experiment::kAngle;
   int trials = 5;                          // frames per step, > 0; sixdof: frames

@@ -260,7 +260,10 @@ TEST(SixdofPlan, BadSettingsAreRefusedWithOneLine) {
   s.sixdof.distance_min = s.sixdof.distance_max = 0.1;  // a 0.2 m printed tag never fits at 0.1 m
   EXPECT_NE(refusal(s).find("the tag does not fit in the 400 x 400 image"), std::string::npos) << refusal(s);
   s = sixdof(0);
-  EXPECT_EQ(refusal(s), "trials must be > 0 (got 0)");
+  EXPECT_EQ(refusal(s), "frames must be in 1..1000000 (got 0)");
+  s = sixdof(3);
+  s.sixdof.distance_max = 1e300;  // finite, but the renderer's numbers would not be
+  EXPECT_EQ(refusal(s).rfind("distance range must be 0 < A <= B metres", 0), 0u) << refusal(s);
 }
 
 TEST(SixdofRun, OurDetectorMatchesTheDistortedTruthAndTheRowsAreReproducible) {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <cstdio>
 #include <map>
@@ -194,19 +195,23 @@ TEST(SweepPlan, BadSettingsAreRefusedWithOneLine) {
     EXPECT_NE(msg.find(fragment), std::string::npos) << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   };
-  expect(settings(Experiment::kAngle, 0), "trials must be > 0");
-  expect(settings(Experiment::kAngle, -3), "trials must be > 0");
+  expect(settings(Experiment::kAngle, 0), "trials must be in 1..1000000");
+  expect(settings(Experiment::kAngle, -3), "trials must be in 1..1000000");
+  expect(settings(Experiment::kAngle, 1000000000), "trials must be in 1..1000000 (got 1000000000)");  // memory
   expect(settings(Experiment::kAngle, 1, {90}), "angle 90 is outside [0, 90) degrees");
   expect(settings(Experiment::kAngle, 1, {-1}), "angle -1 is outside [0, 90) degrees");
   expect(settings(Experiment::kAngle, 1, {10, 10}), "given twice");
-  expect(settings(Experiment::kDistance, 1, {0}), "distance must be > 0");
-  expect(settings(Experiment::kDistance, 1, {-5}), "distance must be > 0");
+  expect(settings(Experiment::kDistance, 1, {0}), "distance must be in (0, 1e6] metres");
+  expect(settings(Experiment::kDistance, 1, {-5}), "distance must be in (0, 1e6] metres");
+  expect(settings(Experiment::kDistance, 1, {1e300}), "distance must be in (0, 1e6] metres");
   SweepSettings s = settings(Experiment::kAngle, 1);
   s.distance = 0;
-  expect(s, "distance must be > 0");
+  expect(s, "distance must be in (0, 1e6] metres");
   s = settings(Experiment::kAngle, 1);
   s.tag_size = 0;
-  expect(s, "tag size must be > 0");
+  expect(s, "tag size must be in [0.001, 1000] metres");
+  s.tag_size = 1e-9;
+  expect(s, "tag size must be in [0.001, 1000] metres");
   s = settings(Experiment::kAngle, 1);
   s.detectors = {"tagbench-paper", "zbar"};
   expect(s, "unknown detector 'zbar'");
@@ -327,6 +332,32 @@ TEST(SweepNames, AnotherFamilyThan36h11IsInTheStemSoThatItDoesNotOverwriteThePap
   s.family = "/some/dir/my family.v2.fam";  // a family file: its name without extension, made file-safe
   s.experiment = Experiment::kConditions;
   EXPECT_EQ(result_stem(s), "conditions_my_family_v2");
+}
+
+TEST(SweepPlan, AFamilyFilesTagIsScoredByTheNameDetectorsReport) {
+  // A family file's frames carry its path (to render it) and its own name (what detections say):
+  // a detection of that name and id is the right id, not a wrong one.
+  const std::filesystem::path f = std::filesystem::temp_directory_path() / "tagbench-sweep-family.fam";
+  std::ofstream(f) << "name: my16\nbits: 16\nhamming: 5\ncomplexity: 0\ncount: 2\n0x231b\n0x2ea5\n";
+  SweepSettings s;
+  s.experiment = Experiment::kDistance;
+  s.family = f.string();
+  s.trials = 1;
+  s.steps = {3};
+  s.detectors = {comparator_names().front()};
+  const std::vector<SweepFrame> plan = plan_sweep(s);
+  ASSERT_EQ(plan.size(), 1u);
+  EXPECT_EQ(plan[0].frame.family, f.string());
+  EXPECT_EQ(plan[0].frame.family_name, "my16");
+  Found right;
+  right.family = "my16";
+  right.id = plan[0].frame.id;
+  right.corners = plan[0].truth.corners;
+  EXPECT_TRUE(score_frame(std::span(&right, 1), 1.0, "x", 0, plan[0]).detected_right_id);
+  Found other = right;
+  other.family = "16h5";
+  EXPECT_TRUE(score_frame(std::span(&other, 1), 1.0, "x", 0, plan[0]).wrong_id);
+  std::filesystem::remove(f);
 }
 
 TEST(SweepStats, Quantiles) {
