@@ -168,6 +168,13 @@ int corpus_candidates(const Words& w) {
     throw std::runtime_error(*dir + ": no images (" +
                              (manifest ? std::string("its manifest.tsv lists none") : "no image file under it") + ")");
   }
+  {  // the store (and its index beside it) must not replace an image of the corpus
+    std::error_code ec;
+    for (const std::filesystem::path& o : {out, std::filesystem::path(out).replace_extension(".tsv")})
+      for (const auto& im : images)
+        if (std::filesystem::equivalent(o, std::filesystem::path(*dir) / im.file, ec))
+          throw UsageError("--out " + out.string() + ": would replace " + im.file + ", an image of the corpus");
+  }
   std::string shard_note;
   if (shard) {
     const auto [first, last] = corpus::shard_range(images.size(), *shard);
@@ -219,6 +226,14 @@ int corpus_merge(const Words& w) {
   const auto out = a.get("out");
   if (!out) throw UsageError("--out FILE is required");
   if (a.positionals().empty()) throw UsageError("no shard stores given (SHARD.bin...)");
+  {  // the merged store (and its index beside it) must not replace a shard being read
+    std::error_code ec;
+    for (const std::filesystem::path& o : {std::filesystem::path(*out), std::filesystem::path(*out).replace_extension(".tsv")})
+      for (const auto& f : a.positionals())
+        for (const std::filesystem::path& in : {std::filesystem::path(f), std::filesystem::path(f).replace_extension(".tsv")})
+          if (std::filesystem::equivalent(o, in, ec))
+            throw UsageError("--out " + *out + ": would replace " + in.string() + ", an input of the merge");
+  }
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<corpus::CandidateStore> shards;
   for (const auto& f : a.positionals()) shards.push_back(corpus::read_candidates(f, true));

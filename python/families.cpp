@@ -54,6 +54,9 @@ void bind_families(py::module_& m) {
           "decode",
           [](const TagFamily& f, Code observed, int max_hamming) -> py::object {
             if (max_hamming < 0) throw std::invalid_argument("max_hamming = " + std::to_string(max_hamming) + ": must be >= 0");
+            if (f.bits() < 64 && (observed >> f.bits()) != 0)  // a word of another family, or a mistake
+              throw std::invalid_argument("code " + std::to_string(observed) + ": more than the family's " +
+                                          std::to_string(f.bits()) + " bits");
             const auto r = f.decode(observed, max_hamming);
             if (!r) return py::none();
             return py::make_tuple(r->id, r->hamming, r->rotation);

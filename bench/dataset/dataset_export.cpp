@@ -177,6 +177,15 @@ void write_dataset(const std::filesystem::path& dir, const DatasetFiles& files) 
   if (fs::exists(dir, ec)) {
     if (!fs::is_directory(dir, ec)) throw std::runtime_error(dir.string() + ": not a directory");
     if (fs::exists(dir / "truth.json", ec)) {
+      // Only a dataset's own truth.json (its format line) makes the folder an earlier dataset.
+      std::string text;
+      try {
+        text = read_file(dir / "truth.json");
+      } catch (const std::exception&) {
+      }
+      if (text.find(std::string("\"format\": \"") + kDatasetFormat + "\"") == std::string::npos)
+        throw std::runtime_error(dir.string() + ": not empty and not a dataset (its truth.json is not a tagbench dataset's): "
+                                 "choose another --out");
       try {
         for (const auto& f : read_dataset(dir).frames) old_frames.push_back(f.file);
       } catch (const std::exception&) {

@@ -58,6 +58,9 @@ DatasetFrame read_frame(const JsonValue& j, const Dataset& d) {
   f.frame.id = j.at("id", what).integer(what + ": id");
   f.frame.tag_size = j.at("tag_size_m", what).number(what + ": tag_size_m");
   f.frame.pose.R = read_matrix(j.at("R", what), what + ": R");
+  // Written at full precision by the export: a rotation to far better than this.
+  const double off = (f.frame.pose.R.transpose() * f.frame.pose.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (!(off <= 1e-6)) throw JsonError(what + ": R: not a rotation (R^T R differs from I by " + std::to_string(off) + ")");
   const auto t = read_numbers(j.at("t", what), 3, what + ": t");
   f.frame.pose.t = Eigen::Vector3d(t[0], t[1], t[2]);
   f.truth.pose = f.frame.pose;

@@ -457,6 +457,10 @@ const std::vector<Case>& cases() {
        {"--out file.txt: not a directory"}},
 
       // --- corpus ---
+      {"corpus_candidates_out_is_an_image", kTag, {"corpus", "candidates", "--corpus", ".", "--out", "tag.png", "--jobs", "1"},
+       2, {"--out tag.png: would replace tag.png, an image of the corpus"}},
+      {"corpus_merge_out_is_an_input", file("s.bin", [] { return std::string("not a store"); }),
+       {"corpus", "merge", "--out", "s.bin", "s.bin"}, 2, {"--out s.bin: would replace s.bin, an input of the merge"}},
       {"corpus_list_missing_folder", {}, {"corpus", "list", "--from", "nowhere"}, 2, {"--from nowhere: no such directory"}},
       {"corpus_list_from_a_regular_file", kRegularFile, {"corpus", "list", "--from", "file.txt"}, 2,
        {"--from file.txt: not a directory"}},

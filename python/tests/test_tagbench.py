@@ -151,6 +151,8 @@ class FamilyTest(unittest.TestCase):
         self.assertEqual(fam.decode(code), (42, 0, 0))
         self.assertEqual(fam.decode(code ^ (1 << 5), max_hamming=1), (42, 1, 0))
         self.assertIsNone(fam.decode(code ^ 0b111, max_hamming=2))
+        with self.assertRaises(ValueError):  # a bit above the family's 36: not one of its words
+            fam.decode(code | (1 << 36))
 
     def test_render(self):
         img = tagbench.Family("16h5").render(0, px_per_cell=3, margin=2)

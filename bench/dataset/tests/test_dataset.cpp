@@ -138,6 +138,15 @@ TEST(Dataset, FolderRules) {
     EXPECT_NE(std::string(e.what()).find("not empty and not a dataset"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(dir.path() / "other" / "truth.json"));
+  // So is one whose truth.json is not a dataset's (someone else's file of that name).
+  write_file_atomic(dir.path() / "other" / "truth.json", "{}");
+  try {
+    write_dataset(dir.path() / "other", files);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("its truth.json is not a tagbench dataset's"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read_file(dir.path() / "other" / "truth.json"), "{}");
   // An earlier dataset is replaced; its frames the new one lacks are removed.
   write_dataset(dir.path() / "ds", files);
   EXPECT_TRUE(fs::exists(dir.path() / "ds" / "frame_00001.png"));
@@ -189,6 +198,10 @@ TEST(Dataset, BadTruthIsOneLineNamingTheFileAndFrame) {
   const auto id_at = far_id.find("\"id\": ", far_id.find("\"index\": 1"));
   far_id.replace(id_at, far_id.find(',', id_at) - id_at, "\"id\": 99999");
   expect_error(far_id, "frame 1: id 99999 is not in family 36h11");
+  std::string not_r = t;
+  const auto r_at = not_r.find("\"R\": ");
+  not_r.replace(r_at, not_r.find("]]", r_at) + 2 - r_at, "\"R\": [[0, 0, 0], [0, 0, 0], [0, 0, 0]]");
+  expect_error(not_r, "frame 0: R: not a rotation");
   std::string none = t;
   const auto frames_at = none.find("\"frames\": [");
   none.replace(frames_at, none.find("\n  ]", frames_at) + 4 - frames_at, "\"frames\": []");
