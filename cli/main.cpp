@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <string>
 
+#include <opencv2/core/utils/logger.hpp>
+
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
 
@@ -95,6 +97,9 @@ int main(int argc, char** argv) {
     std::fputs(kHelp, argc < 2 ? stderr : stdout);
     return argc < 2 ? 2 : 0;
   }
+  // OpenCV's own warnings ("[ WARN:0@0.08] ... imread_(...): can't open/read file") would break the
+  // one-line-per-error rule: every command reports what it could not read itself.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   const std::string name = argv[1];
   tagbench::cli::Words rest(argv + 2, argv + argc);
   for (const auto& c : kCommands) {
