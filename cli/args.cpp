@@ -1,5 +1,6 @@
 #include "cli/args.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
@@ -86,6 +87,24 @@ std::string Args::get_or(const std::string& name, const std::string& fallback) c
 std::vector<std::string> Args::all(const std::string& name) const {
   const auto it = values_.find(name);
   return it == values_.end() ? std::vector<std::string>{} : it->second;
+}
+
+std::vector<std::string> option_list(const std::string& option, const std::string& s, bool may_be_empty) {
+  std::vector<std::string> out;
+  if (s.empty()) {
+    if (may_be_empty) return out;
+    throw UsageError(option + ": empty list");
+  }
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = s.find(',', start);
+    std::string item = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (item.empty()) throw UsageError(option + ": empty item in '" + s + "'");
+    if (std::find(out.begin(), out.end(), item) != out.end()) throw UsageError(option + ": '" + item + "' given twice");
+    out.push_back(std::move(item));
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
 }
 
 std::vector<std::string> split_commas(const std::string& s) {

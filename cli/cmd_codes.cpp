@@ -85,10 +85,10 @@ int cmd_generator_speed(const Words& w) {
   if (!std::filesystem::is_directory(std::filesystem::absolute(out).parent_path()))
     throw UsageError("--out " + out.string() + ": " + why_not_directory(out.string()));
   std::vector<int> threads;
-  for (const auto& t : split_commas(a.get_or("threads", "1," + std::to_string(hardware_threads()))))
+  for (const auto& t : option_list("--threads", a.get_or("threads", "1," + std::to_string(hardware_threads()))))
     threads.push_back(static_cast<int>(parse_int("--threads", t, 1, 1024)));
   if (threads.empty()) throw UsageError("--threads: empty list");
-  const auto families = split_commas(a.get_or("families", "16h5,25h9,25h7"));
+  const auto families = option_list("--families", a.get_or("families", "16h5,25h9,25h7"));
   for (const auto& f : families) builtin_family(f);  // unknown names fail before any timing
   auto rows = measure_generator_speed(families, threads);
   for (auto& r : recorded_generator_runs()) rows.push_back(std::move(r));

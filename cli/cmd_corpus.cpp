@@ -256,7 +256,7 @@ int corpus_score(const Words& w) {
   const Args a(w, {{"candidates"}, {"family", true, true}, {"max-bits"}, {"jobs"}});
   std::vector<std::string> names;
   for (const auto& f : a.all("family"))
-    for (const auto& n : split_commas(f)) names.push_back(n);
+    for (const auto& n : option_list("--family", f)) names.push_back(n);
   for (const auto& p : a.positionals()) names.push_back(p);
   const auto file = a.get("candidates");
   if (!file) throw UsageError("--candidates FILE is required");

@@ -191,7 +191,8 @@ int falsepos_codes(const Words& w) {
   const int max_k = static_cast<int>(a.get_int("max-bits", 7, 0, 64));
   std::vector<ScoredFamily> families;
   for (const auto& f : a.all("family"))
-    for (const auto& n : split_commas(f)) families.push_back({n, load_family(n), 0});
+    for (const auto& n : option_list("--family", f))
+      families.push_back({n, usage_on_invalid("--family: ", [&] { return load_family(n); }), 0});
   if (families.empty()) families = fig7_schemes();
   std::string file;
   const auto store = load_store(a, file);
@@ -230,7 +231,7 @@ int falsepos_detectors(const Words& w) {
   } else if (a.has("external-timeout")) {
     throw UsageError("--external-timeout: no external detector (--detectors ...,external:NAME=COMMAND)");
   }
-  if (auto v = a.get("families")) o.families = split_commas(*v);
+  if (auto v = a.get("families")) o.families = option_list("--families", *v);
   if (o.detectors.empty()) throw UsageError("--detectors: empty list");
   if (o.families.empty()) throw UsageError("--families: empty list");
   for (const auto& d : o.detectors)
@@ -298,12 +299,12 @@ int falsepos_margin(const Words& w) {
   o.jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
   o.detectors = {kMarginDetector};
   o.families = {"16h5", "25h9"};
-  if (auto v = a.get("families")) o.families = split_commas(*v);
+  if (auto v = a.get("families")) o.families = option_list("--families", *v);
   if (o.families.empty()) throw UsageError("--families: empty list");
   std::vector<double> thresholds = default_margin_thresholds();
   if (auto v = a.get("thresholds")) {
     thresholds.clear();
-    for (const auto& t : split_commas(*v)) thresholds.push_back(parse_double("--thresholds", t, 0, 1));
+    for (const auto& t : option_list("--thresholds", *v)) thresholds.push_back(parse_double("--thresholds", t, 0, 1));
   }
   const int trials = static_cast<int>(a.get_int("trials", 10, 1, 100000));
   const auto seed = static_cast<std::uint64_t>(a.get_int("seed", 1, 0, (1LL << 62)));
@@ -311,7 +312,7 @@ int falsepos_margin(const Words& w) {
   if (auto v = a.get("conditions")) {
     conditions.clear();
     if (*v != "none") try {
-        for (const auto& c : split_commas(*v)) conditions.push_back(parse_condition(c));
+        for (const auto& c : option_list("--conditions", *v)) conditions.push_back(parse_condition(c));
       } catch (const std::invalid_argument& e) {
         throw UsageError(std::string("--conditions: ") + e.what());
       }
@@ -333,7 +334,7 @@ int falsepos_margin(const Words& w) {
       d.detectors = {kMarginDetector};
       d.family = f;
       if (auto list = a.get("distances")) {
-        for (const auto& x : split_commas(*list)) d.steps.push_back(parse_double("--distances", x, -1e300, 1e300));
+        for (const auto& x : option_list("--distances", *list)) d.steps.push_back(parse_double("--distances", x, -1e300, 1e300));
       } else {
         // The distance sweep's steps from 3 m: at 2 m the whole printed tag of a family with a wider
         // white border than 36h11's (16h5: 8 cells for a 6-cell black square) may leave the image.

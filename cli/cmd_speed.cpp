@@ -55,7 +55,7 @@ pair's ratio), DIR/speed_images.csv (a row per image and detector) and DIR/speed
 
 std::vector<std::pair<std::string, std::string>> parse_pairs(const std::string& text) {
   std::vector<std::pair<std::string, std::string>> out;
-  for (const auto& item : split_commas(text)) {
+  for (const auto& item : option_list("--pairs", text, true)) {
     const auto colon = item.find(':');
     if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())
       throw UsageError("--pairs: '" + item + "' is not A:B");
@@ -72,7 +72,7 @@ int cmd_speed(const Words& w) {
                    {"pairs"}, {"family"}, {"repeats"}, {"out"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   bench::SpeedOptions o;
-  o.detectors = split_commas(a.get_or(
+  o.detectors = option_list("--detectors", a.get_or(
       "detectors",
       "tagbench,tagbench-thorough,tagbench-half,tagbench-paper,tagbench-paper-half,libapriltag-d1,libapriltag-d2,aruco"));
   if (o.detectors.empty()) throw UsageError("--detectors: empty list");
@@ -86,7 +86,7 @@ int cmd_speed(const Words& w) {
     for (const auto& n : {x, y})
       if (std::find(o.detectors.begin(), o.detectors.end(), n) == o.detectors.end())
         throw UsageError("--pairs: '" + n + "' is not among --detectors");
-  const auto sets = split_commas(a.get_or("sets", "corpus,raytrace,realistic,scenes"));
+  const auto sets = option_list("--sets", a.get_or("sets", "corpus,raytrace,realistic,scenes"));
   if (sets.empty()) throw UsageError("--sets: empty list");
   const auto max_images = static_cast<std::size_t>(a.get_int("max-images", 0, 0, 1000000000));
   const int per_size = static_cast<int>(a.get_int("scenes-per-size", 5, 1, 1000));

@@ -413,6 +413,10 @@ const std::vector<Case>& cases() {
       {"scene_disk_full", {}, {"scene", "-o", "s.png"}, 1, {"cannot write s.png", "File too large"}, {.fsize = 4096}},
 
       // --- codes ---
+      // Lists: an item twice would be run and counted twice; an empty item is a typo.
+      {"speed_set_given_twice", {}, {"speed", "--sets", "scenes,scenes", "--out", "out"}, 2, {"--sets: 'scenes' given twice"}},
+      {"generator_speed_empty_item", {}, {"generator-speed", "--families", "16h5,", "--out", "g.csv"}, 2,
+       {"--families: empty item in '16h5,'"}},
       {"codes_out_missing_folder", {}, {"codes", "--out", "nowhere"}, 2, {"--out nowhere: no such directory"}},
       {"codes_out_is_a_regular_file", kRegularFile, {"codes", "--out", "file.txt"}, 2, {"--out file.txt: not a directory"}},
       {"codes_threads_negative", folder("res"), {"codes", "--out", "res", "--threads", "-1"}, 2,
