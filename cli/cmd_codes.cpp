@@ -89,7 +89,8 @@ int cmd_generator_speed(const Words& w) {
     threads.push_back(static_cast<int>(parse_int("--threads", t, 1, 1024)));
   if (threads.empty()) throw UsageError("--threads: empty list");
   const auto families = option_list("--families", a.get_or("families", "16h5,25h9,25h7"));
-  for (const auto& f : families) builtin_family(f);  // unknown names fail before any timing
+  for (const auto& f : families)  // unknown names fail before any timing
+    usage_on_invalid("--families: ", [&] { return builtin_family(f).size(); });
   auto rows = measure_generator_speed(families, threads);
   for (auto& r : recorded_generator_runs()) rows.push_back(std::move(r));
   write_file_atomic(out, generator_speed_csv(rows));

@@ -264,7 +264,7 @@ int corpus_score(const Words& w) {
   const int jobs = static_cast<int>(a.get_int("jobs", hardware_threads(), 1, 256));
   const int max_k = static_cast<int>(a.get_int("max-bits", 4, 0, 64));
   std::vector<TagFamily> families;
-  for (const auto& n : names) families.push_back(load_family(n));
+  for (const auto& n : names) families.push_back(usage_on_invalid("--family: ", [&] { return load_family(n); }));
   const auto store = corpus::read_candidates(*file, false);
   const auto t0 = std::chrono::steady_clock::now();
   std::printf("family\tbits_corrected\tquads\taccepted\trate\n");

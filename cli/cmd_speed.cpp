@@ -14,6 +14,8 @@
 
 #include "cli/args.hpp"
 #include "cli/commands.hpp"
+#include "codes/families.hpp"
+#include "raytrace/comparators.hpp"
 #include "speed/speed_sets.hpp"
 #include "tools/atomic_file.hpp"
 #include "tools/json.hpp"
@@ -77,6 +79,11 @@ int cmd_speed(const Words& w) {
       "tagbench,tagbench-thorough,tagbench-half,tagbench-paper,tagbench-paper-half,libapriltag-d1,libapriltag-d2,aruco"));
   if (o.detectors.empty()) throw UsageError("--detectors: empty list");
   o.family = a.get_or("family", "36h11");
+  usage_on_invalid("--family: ", [&] { return builtin_family(o.family).size(); });  // the sets render built-in families
+  for (const auto& d : o.detectors)  // unknown names fail before any image is read
+    if (const auto& known = bench::known_comparator_names(); std::find(known.begin(), known.end(), d) == known.end() &&
+                                                             !bench::is_ours_variant(d))
+      throw UsageError("--detectors: unknown detector '" + d + "'");
   o.repeats = static_cast<int>(a.get_int("repeats", 1, 1, 100));
   const auto pairs = parse_pairs(a.get_or("pairs",
                                           "tagbench:libapriltag-d1,tagbench-thorough:libapriltag-d1,"
