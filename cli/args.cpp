@@ -89,22 +89,30 @@ std::vector<std::string> Args::all(const std::string& name) const {
   return it == values_.end() ? std::vector<std::string>{} : it->second;
 }
 
-std::vector<std::string> option_list(const std::string& option, const std::string& s, bool may_be_empty) {
+std::vector<std::string> split_items(const std::string& option, const std::string& s) {
   std::vector<std::string> out;
+  std::string cur;
+  for (const char c : s + ",") {
+    if (c == ',') {
+      if (cur.empty()) throw UsageError(option + ": empty item in '" + s + "'");
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> option_list(const std::string& option, const std::string& s, bool may_be_empty) {
   if (s.empty()) {
-    if (may_be_empty) return out;
+    if (may_be_empty) return {};
     throw UsageError(option + ": empty list");
   }
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = s.find(',', start);
-    std::string item = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    if (item.empty()) throw UsageError(option + ": empty item in '" + s + "'");
-    if (std::find(out.begin(), out.end(), item) != out.end()) throw UsageError(option + ": '" + item + "' given twice");
-    out.push_back(std::move(item));
-    if (comma == std::string::npos) return out;
-    start = comma + 1;
-  }
+  std::vector<std::string> out = split_items(option, s);
+  for (auto it = out.begin(); it != out.end(); ++it)
+    if (std::find(out.begin(), it, *it) != it) throw UsageError(option + ": '" + *it + "' given twice");
+  return out;
 }
 
 std::vector<std::string> split_commas(const std::string& s) {

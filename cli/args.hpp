@@ -69,6 +69,9 @@ class Args {
 // "a,b,,c" -> {"a", "b", "c"}: the comma-separated lists of options like --families; empty items dropped.
 std::vector<std::string> split_commas(const std::string& s);
 
+// "a,b,c" -> {"a", "b", "c"}; an empty item (or an empty `s`) is a UsageError naming the option.
+std::vector<std::string> split_items(const std::string& option, const std::string& s);
+
 // An option's comma-separated list, strictly: UsageError (naming `option`) for an empty item ("a,,b",
 // "a,"), an item given twice (it would be run and counted twice) or, unless `may_be_empty`, no item.
 std::vector<std::string> option_list(const std::string& option, const std::string& s, bool may_be_empty = false);

@@ -21,6 +21,16 @@
 namespace tagbench::cli {
 
 namespace {
+
+// Which of `inputs` writing the store `out` and its index (the same name, .tsv) would replace, if any.
+std::optional<std::filesystem::path> replaced_input(const std::filesystem::path& out,
+                                                    const std::vector<std::filesystem::path>& inputs) {
+  std::error_code ec;
+  for (const std::filesystem::path& o : {out, std::filesystem::path(out).replace_extension(".tsv")})
+    for (const auto& in : inputs)
+      if (std::filesystem::equivalent(o, in, ec)) return in;
+  return std::nullopt;
+}
 constexpr const char* kHelp = R"(usage: tagbench corpus build [options]
        tagbench corpus list --from DIR
        tagbench corpus candidates --corpus DIR [--shard i/N] [--out FILE] [--jobs N]
@@ -169,11 +179,11 @@ int corpus_candidates(const Words& w) {
                              (manifest ? std::string("its manifest.tsv lists none") : "no image file under it") + ")");
   }
   {  // the store (and its index beside it) must not replace an image of the corpus
-    std::error_code ec;
-    for (const std::filesystem::path& o : {out, std::filesystem::path(out).replace_extension(".tsv")})
-      for (const auto& im : images)
-        if (std::filesystem::equivalent(o, std::filesystem::path(*dir) / im.file, ec))
-          throw UsageError("--out " + out.string() + ": would replace " + im.file + ", an image of the corpus");
+    std::vector<std::filesystem::path> read;
+    for (const auto& im : images) read.push_back(std::filesystem::path(*dir) / im.file);
+    if (const auto hit = replaced_input(out, read))
+      throw UsageError("--out " + out.string() + ": would replace " + hit->lexically_relative(*dir).string() +
+                       ", an image of the corpus");
   }
   std::string shard_note;
   if (shard) {
@@ -226,13 +236,13 @@ int corpus_merge(const Words& w) {
   const auto out = a.get("out");
   if (!out) throw UsageError("--out FILE is required");
   if (a.positionals().empty()) throw UsageError("no shard stores given (SHARD.bin...)");
-  {  // the merged store (and its index beside it) must not replace a shard being read
-    std::error_code ec;
-    for (const std::filesystem::path& o : {std::filesystem::path(*out), std::filesystem::path(*out).replace_extension(".tsv")})
-      for (const auto& f : a.positionals())
-        for (const std::filesystem::path& in : {std::filesystem::path(f), std::filesystem::path(f).replace_extension(".tsv")})
-          if (std::filesystem::equivalent(o, in, ec))
-            throw UsageError("--out " + *out + ": would replace " + in.string() + ", an input of the merge");
+  {  // the merged store (and its index beside it) must not replace a shard or its index
+    std::vector<std::filesystem::path> read;
+    for (const auto& f : a.positionals())
+      for (const std::filesystem::path& p : {std::filesystem::path(f), std::filesystem::path(f).replace_extension(".tsv")})
+        read.push_back(p);
+    if (const auto hit = replaced_input(*out, read))
+      throw UsageError("--out " + *out + ": would replace " + hit->string() + ", an input of the merge");
   }
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<corpus::CandidateStore> shards;

@@ -61,7 +61,6 @@
 // and a complete document (JSON closed, CSV rows whole), exit status 130 or 143.
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
-#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -407,8 +406,13 @@ int cmd_detect(const Words& words) {
       throw;
     }
   });
-  // OpenCV's own warnings (decoders, video back ends) would break the one-line-per-error rule.
-  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  // A tag of a family not searched could only ever be "wrong_id": say so now, against the families
+  // the detector loaded.
+  for (const ExplainPoint& p : s.explain)
+    if (p.family && std::none_of(detector.families().begin(), detector.families().end(),
+                                 [&](const TagFamily& f) { return f.name() == p.family->name(); }))
+      throw UsageError("--explain " + p.spec + ": family " + p.family->name() + " is not searched (add --family " +
+                       p.family->name() + ")");
   cv::setNumThreads(1);  // parallelism is across images; OpenCV's own threads would oversubscribe
 
   const std::vector<Source> sources = expand_inputs(inputs);

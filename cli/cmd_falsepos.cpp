@@ -233,7 +233,6 @@ int falsepos_detectors(const Words& w) {
   }
   if (auto v = a.get("families")) o.families = option_list("--families", *v);
   if (o.detectors.empty()) throw UsageError("--detectors: empty list");
-  if (o.families.empty()) throw UsageError("--families: empty list");
   for (const auto& d : o.detectors)
     for (const auto& f : o.families) try {
         if (std::any_of(o.external.begin(), o.external.end(), [&](const auto& e) { return e.name == d; })) continue;
@@ -300,7 +299,6 @@ int falsepos_margin(const Words& w) {
   o.detectors = {kMarginDetector};
   o.families = {"16h5", "25h9"};
   if (auto v = a.get("families")) o.families = option_list("--families", *v);
-  if (o.families.empty()) throw UsageError("--families: empty list");
   std::vector<double> thresholds = default_margin_thresholds();
   if (auto v = a.get("thresholds")) {
     thresholds.clear();

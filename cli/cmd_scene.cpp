@@ -39,7 +39,7 @@ int cmd_scene(const Words& w) {
   const std::filesystem::path out = *a.get("out");
   if (out.extension() != ".png") throw UsageError("-o " + out.string() + ": the scene is written as .png");
   // unknown names fail here with the list of known ones
-  usage_on_invalid("--family: ", [&] { return builtin_family(family).size(); });
+  usage_on_invalid("--family: ", [&] { builtin_family(family); });
   const Scene s = make_scene(width, height, family, count, seed);
   std::vector<std::uint8_t> png;
   if (!cv::imencode(".png", s.image, png)) throw std::runtime_error(out.string() + ": PNG encoding failed");

@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "codes/families.hpp"
 #include "tools/format.hpp"
 #include "tools/sysinfo.hpp"
 
@@ -207,19 +206,7 @@ Settings parse_settings(const Args& a) {
     if (fs::exists(*s.debug_dir, ec) && !fs::is_directory(*s.debug_dir, ec))
       throw UsageError("--debug-dir " + *d + ": exists and is not a directory");
   }
-  for (const auto& e : a.all("explain")) {
-    s.explain.push_back(parse_explain_point(e));
-    // A tag of a family not searched could only ever be "wrong_id": say so now.
-    if (const auto& f = s.explain.back().family) {
-      bool searched = false;
-      for (const auto& name : s.det.families)
-        try {
-          searched = searched || load_family(name).name() == f->name();
-        } catch (const std::exception&) {  // reported when the detector loads the families
-        }
-      if (!searched) throw UsageError("--explain " + e + ": family " + f->name() + " is not searched (add --family " + f->name() + ")");
-    }
-  }
+  for (const auto& e : a.all("explain")) s.explain.push_back(parse_explain_point(e));
   if (const auto d = a.get("draw")) {
     if (d->empty()) throw UsageError("--draw: empty path");
     s.draw = fs::path(*d);

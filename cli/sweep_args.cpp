@@ -13,21 +13,6 @@ std::vector<OptionSpec> sweep_option_specs() {
           {"frames"}, {"distance-range"}, {"phi-max"}, {"lens"}, {"defocus-max"}, {"noise-max"}, {"bins"}};
 }
 
-std::vector<std::string> split_items(const std::string& option, const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (const char c : s + ",") {
-    if (c == ',') {
-      if (cur.empty()) throw UsageError(option + ": empty item in '" + s + "'");
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  return out;
-}
-
 namespace {
 
 std::vector<double> number_list(const std::string& option, const std::string& s) {

@@ -22,9 +22,6 @@ bench::SweepSettings parse_sweep_settings(const std::string& name, const Args& a
 // --detectors, parse_detector_list).
 bench::SweepSettings parse_sweep_settings(const std::string& name, const Args& a, bench::SweepSettings base);
 
-// "a,b,c" -> {"a", "b", "c"}; an empty item is a UsageError naming the option.
-std::vector<std::string> split_items(const std::string& option, const std::string& s);
-
 // --detectors LIST: built-in names and external:NAME=COMMAND items (a COMMAND runs to the next item
 // that is a built-in name or another external:, so it may hold commas), into settings.detectors and
 // settings.external (with the timeout of --external-timeout). UsageError for a malformed item.

@@ -59,7 +59,7 @@ DatasetFrame read_frame(const JsonValue& j, const Dataset& d) {
   f.frame.tag_size = j.at("tag_size_m", what).number(what + ": tag_size_m");
   f.frame.pose.R = read_matrix(j.at("R", what), what + ": R");
   // Written at full precision by the export: a rotation to far better than this.
-  const double off = (f.frame.pose.R.transpose() * f.frame.pose.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double off = rotation_defect(f.frame.pose.R);
   if (!(off <= 1e-6)) throw JsonError(what + ": R: not a rotation (R^T R differs from I by " + std::to_string(off) + ")");
   const auto t = read_numbers(j.at("t", what), 3, what + ": t");
   f.frame.pose.t = Eigen::Vector3d(t[0], t[1], t[2]);
@@ -152,7 +152,7 @@ Dataset read_dataset(const std::filesystem::path& path) {
     try {
       family = load_family(s.family);
     } catch (const std::invalid_argument&) {
-      if (s.family.find('/') == std::string::npos && !s.family.ends_with(".fam")) throw;  // an unknown name
+      if (!names_a_family_file(s.family)) throw;  // an unknown name
     }
     std::map<std::string, std::size_t> seen;
     for (const DatasetFrame& f : d.frames) {

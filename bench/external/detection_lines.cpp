@@ -35,7 +35,7 @@ Found read_found(const JsonValue& j, const std::string& what) {
     }
     // Orthonormal to printing precision (a detector's six significant digits are 1e-5 off): scored
     // as a rotation, anything else would give a meaningless angle.
-    const double off = (pose.R.transpose() * pose.R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+    const double off = rotation_defect(pose.R);
     if (!(off <= 1e-3)) throw JsonError(what + ": pose.R: not a rotation (R^T R differs from I by " + std::to_string(off) + ")");
     const auto& t = p->at("t", what + ": pose").array(what + ": pose.t");
     if (t.size() != 3) throw JsonError(what + ": pose.t: expected 3 numbers");

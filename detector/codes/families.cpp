@@ -90,10 +90,14 @@ std::vector<std::string> builtin_family_names() { return registry().names; }
 
 const TagFamily& builtin_family(const std::string& name) { return registry().get(canonical_family_name(name)); }
 
+bool names_a_family_file(const std::string& name_or_path) {
+  return name_or_path.find('/') != std::string::npos || name_or_path.ends_with(".fam");
+}
+
 TagFamily load_family(const std::string& name_or_path) {
   std::error_code ec;
   if (std::filesystem::is_regular_file(name_or_path, ec)) return read_family_file(name_or_path);
-  if (name_or_path.find('/') != std::string::npos || name_or_path.ends_with(".fam")) {
+  if (names_a_family_file(name_or_path)) {
     const auto st = std::filesystem::status(name_or_path, ec);
     throw std::invalid_argument("family file " + name_or_path + ": " +
                                 (!std::filesystem::exists(st)        ? "no such file"

@@ -23,6 +23,10 @@ std::string canonical_family_name(const std::string& name);
 // A built-in family, or a family file when `name_or_path` names an existing file.
 TagFamily load_family(const std::string& name_or_path);
 
+// Whether `name_or_path` is meant as a family file (a path with '/' or a name ending in .fam), not a
+// built-in name: load_family's rule for reporting "no such file" rather than "unknown family".
+bool names_a_family_file(const std::string& name_or_path);
+
 // Families whose lexicode run is still in progress (checkpoint shipped, family not yet complete).
 std::vector<std::string> pending_family_names();
 

@@ -210,9 +210,10 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   const int k_max = hamming_by_family ? kMaxBitsCorrected : std::max(0, h_min - 1);
   if (max_hamming < 0 || max_hamming > k_max)
     fail("max_hamming", static_cast<long long>(max_hamming),
-         hamming_by_family ? "must be in 0.." + std::to_string(k_max)
-                           : "must be in 0.." + std::to_string(k_max) + " (below the minimum Hamming distance " +
-                                 std::to_string(h_min) + " of family " + h_family + ")");
+         "must be in 0.." + std::to_string(k_max) +
+             (hamming_by_family ? std::string()
+                                : " (below the minimum Hamming distance " + std::to_string(h_min) + " of family " +
+                                      h_family + ")"));
   // Two families of one name: a detection names its family, so it could not say which.
   for (std::size_t i = 0; i < loaded.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)

@@ -27,6 +27,12 @@ struct Pose {
   Eigen::Vector3d t = Eigen::Vector3d::Zero();
 };
 
+// How far R is from orthonormal: the largest entry of |R^T R - I| (0 for a rotation or reflection;
+// NaN propagates, so `!(rotation_defect(R) <= tol)` refuses it too).
+inline double rotation_defect(const Eigen::Matrix3d& R) {
+  return (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+}
+
 struct PoseSolution {
   Pose pose;
   double reprojection_rms_px = 0;  // RMS distance between the observed and projected corners

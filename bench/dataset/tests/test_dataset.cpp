@@ -129,23 +129,21 @@ TEST(Dataset, FolderRules) {
   const auto plan = plan_sweep(s);
   files.truth_json = truth_json(s, {plan[0], plan[0]}, {});
   // A folder holding something else is refused, untouched.
+  const auto refused = [&](const std::string& fragment) {
+    try {
+      write_dataset(dir.path() / "other", files);
+      ADD_FAILURE() << "written";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
   fs::create_directories(dir.path() / "other");
   write_file_atomic(dir.path() / "other" / "keep.txt", "x");
-  try {
-    write_dataset(dir.path() / "other", files);
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("not empty and not a dataset"), std::string::npos) << e.what();
-  }
+  refused("not empty and not a dataset");
   EXPECT_FALSE(fs::exists(dir.path() / "other" / "truth.json"));
   // So is one whose truth.json is not a dataset's (someone else's file of that name).
   write_file_atomic(dir.path() / "other" / "truth.json", "{}");
-  try {
-    write_dataset(dir.path() / "other", files);
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("its truth.json is not a tagbench dataset's"), std::string::npos) << e.what();
-  }
+  refused("its truth.json is not a tagbench dataset's");
   EXPECT_EQ(read_file(dir.path() / "other" / "truth.json"), "{}");
   // An earlier dataset is replaced; its frames the new one lacks are removed.
   write_dataset(dir.path() / "ds", files);
