@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/args.hpp"
@@ -48,7 +49,9 @@ Options:
   --export-frames DIR also write every frame into DIR: frame-NNNNN.jpg (the JPEG the detectors decode;
                       .png with --ideal) and frame-NNNNN.json (truth: corners TL,TR,BR,BL of the black
                       square, pixel centres at integers, size, tilt, pose, tag size; the camera and
-                      what it did), and set.json (the settings)
+                      what it did), and set.json (the settings, written last: a folder without it
+                      holds an interrupted export). DIR must be missing, empty or an earlier export
+                      (only frame-NNNNN.* files and set.json): that export's files are removed first
   --ceiling           also read every tag through its TRUE corners with the default profile's decoding
                       (area and point reader; the area reader again with the soft decoder, soft_decode.hpp,
                       where it decoded nothing hard): what the payload reader could decode if the quads were
@@ -83,6 +86,41 @@ std::string frame_name(int index, const char* ext) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "frame-%05d.%s", index, ext);
   return buf;
+}
+
+// --export-frames DIR: missing, empty or an earlier export, whose files are removed so that the
+// folder never mixes frames of two sets. Anything else in it refuses the run (nothing is removed).
+bool is_export_file(const std::string& name) {
+  if (name == "set.json") return true;
+  // frame-NNNNN.jpg|png|json, or a temporary of one (TARGET.tmp.OWNER; remove_stale_temporaries)
+  const auto frame = [](std::string_view n) {
+    if (n.size() < 12 || n.substr(0, 6) != "frame-") return false;
+    for (std::size_t i = 6; i < 11; ++i)
+      if (n[i] < '0' || n[i] > '9') return false;
+    const std::string_view ext = n.substr(11);
+    return ext == ".jpg" || ext == ".png" || ext == ".json";
+  };
+  const auto tmp = name.find(".tmp.");
+  return frame(tmp == std::string::npos ? std::string_view(name) : std::string_view(name).substr(0, tmp));
+}
+
+void prepare_export_folder(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) {
+    fs::create_directories(dir);
+    return;
+  }
+  std::vector<fs::path> old;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (!is_export_file(name) || !e.is_regular_file(ec))
+      throw UsageError("--export-frames " + dir.string() + ": not empty and not an earlier export ('" + name +
+                       "' is not one of its files): choose another folder");
+    if (name.find(".tmp.") == std::string::npos) old.push_back(e.path());
+  }
+  remove_stale_temporaries(dir);
+  for (const auto& p : old) fs::remove(p);  // throws naming the path when it cannot
 }
 
 }  // namespace
@@ -126,8 +164,7 @@ int cmd_realistic(const Words& w) {
   if (a.has("export-frames")) {
     export_dir = *a.get("export-frames");
     check_out_folder("--export-frames", export_dir->string());
-    std::filesystem::create_directories(*export_dir);
-    remove_stale_temporaries(*export_dir);
+    prepare_export_folder(*export_dir);
   }
 
   std::optional<ProgressBar> bar;

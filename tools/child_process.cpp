@@ -6,12 +6,66 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <mutex>
 #include <chrono>
 #include <thread>
 #include <stdexcept>
 
 namespace tagbench {
+
+namespace {
+
+// The process groups of run_child_io's children still running. They are not in our process group,
+// so a Ctrl-C at the terminal does not reach them; while any runs, SIGINT, SIGTERM and SIGHUP kill
+// every such group before the signal takes its earlier course (by default, ending this process).
+// Without it the child's own children outlive us (PR_SET_PDEATHSIG reaches only the direct child).
+constexpr int kGroupSlots = 64;
+std::atomic<pid_t> g_groups[kGroupSlots];
+constexpr int kForwarded[] = {SIGINT, SIGTERM, SIGHUP};
+struct sigaction g_previous[3];
+std::mutex g_groups_mu;  // guards g_running and the installing and restoring of the handlers
+int g_running = 0;
+
+extern "C" void kill_child_groups(int sig) {
+  for (auto& g : g_groups)
+    if (const pid_t p = g.load(); p > 0) ::kill(-p, SIGKILL);
+  for (int i = 0; i < 3; ++i)
+    if (kForwarded[i] == sig) ::sigaction(sig, &g_previous[i], nullptr);
+  ::raise(sig);
+}
+
+// Registers a child's process group while it lives (kill_child_groups above).
+class ChildGroup {
+ public:
+  explicit ChildGroup(pid_t group) {
+    std::lock_guard lock(g_groups_mu);
+    for (int i = 0; i < kGroupSlots && slot_ < 0; ++i) {
+      pid_t none = 0;
+      if (g_groups[i].compare_exchange_strong(none, group)) slot_ = i;
+    }
+    if (g_running++ == 0) {
+      struct sigaction a {};
+      a.sa_handler = kill_child_groups;
+      sigemptyset(&a.sa_mask);
+      for (int i = 0; i < 3; ++i) ::sigaction(kForwarded[i], &a, &g_previous[i]);
+    }
+  }
+  ~ChildGroup() {
+    std::lock_guard lock(g_groups_mu);
+    if (slot_ >= 0) g_groups[slot_].store(0);
+    if (--g_running == 0)
+      for (int i = 0; i < 3; ++i) ::sigaction(kForwarded[i], &g_previous[i], nullptr);
+  }
+  ChildGroup(const ChildGroup&) = delete;
+  ChildGroup& operator=(const ChildGroup&) = delete;
+
+ private:
+  int slot_ = -1;
+};
+
+}  // namespace
 
 ChildStatus run_child(const std::vector<std::string>& argv, const std::filesystem::path& cwd,
                       const std::filesystem::path& log, int nice_increment) {
@@ -76,6 +130,7 @@ ChildStatus run_child_io(const std::vector<std::string>& argv, const std::filesy
     ::_exit(127);
   }
   ::setpgid(pid, pid);  // also here, so the group exists before any kill below
+  const ChildGroup group(pid);
   ChildStatus s;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(io.timeout_seconds);
   int st = 0;

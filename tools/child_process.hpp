@@ -31,7 +31,9 @@ struct ChildIo {
 };
 
 // As run_child, with stdin, stdout and stderr from and into files, in a process group of its own
-// (so a timeout also ends what it started), and a time limit.
+// (so a timeout also ends what it started), and a time limit. While it runs, SIGINT, SIGTERM or SIGHUP
+// to this process first kill the child's whole process group (which a Ctrl-C at the terminal does
+// not reach), then take their earlier course.
 ChildStatus run_child_io(const std::vector<std::string>& argv, const std::filesystem::path& cwd, const ChildIo& io);
 
 }  // namespace tagbench

@@ -23,6 +23,7 @@
 
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
+#include "raytrace/render_batches.hpp"
 #include "tools/atomic_file.hpp"
 #include "tools/child_process.hpp"
 #include "tools/format.hpp"
@@ -114,35 +115,10 @@ std::string povray_error(const fs::path& log, const ChildStatus& status) {
   return "povray wrote no image for this frame";
 }
 
-bool decodes_as_frame(const fs::path& png) {
-  std::error_code ec;
-  if (!fs::is_regular_file(png, ec)) return false;
-  const cv::Mat m = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
-  return !m.empty() && m.cols == kRenderWidth && m.rows == kRenderHeight;
-}
-
 std::size_t placeholder_count(const std::string& t) {
   std::size_t n = 0;
   for (auto p = t.find(kPlaceholder); p != std::string::npos; p = t.find(kPlaceholder, p + 1)) ++n;
   return n;
-}
-
-// A batch's files are named batch-ID.pov, batch-ID-wW-R.log and tmp-ID-NNN.png with ID = OWNER-HASH
-// (OWNER = owner_tag(), "PID-HOST"). Removes those of batches whose process is gone (killed), and the
-// atomic writes' temporaries; batches of runs still going (on this host or another sharing the cache)
-// are left alone.
-void clear_dead_batches(const fs::path& dir) {
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string n = it->path().filename().string();
-    std::string rest;
-    if (n.rfind("batch-", 0) == 0) rest = n.substr(6);
-    else if (n.rfind("tmp-", 0) == 0) rest = n.substr(4);
-    else continue;
-    std::error_code rec;
-    if (owner_prefix_is_gone(rest)) fs::remove(it->path(), rec);
-  }
-  remove_stale_temporaries(dir);
 }
 
 }  // namespace
@@ -292,6 +268,9 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
   const fs::path dir = fs::absolute(options.cache_dir);
   const std::string template_key = key_of(scene_template);
 
+  // Before the cache is looked up: frames a killed run finished are in it again.
+  clear_dead_batches(dir);
+
   RenderReport report;
   report.frames.resize(frames.size());
   std::map<std::string, TagFamily> families;
@@ -328,7 +307,12 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
 
   if (!jobs.empty()) {
     const auto exe = find_executable(options.povray);
-    if (!exe) throw std::runtime_error("povray not found: install the Debian package povray");
+    if (!exe) {
+      if (options.povray == "povray") throw std::runtime_error("povray not found: install the Debian package povray");
+      throw std::runtime_error("povray '" + options.povray + "': " +
+                               (options.povray.find('/') != std::string::npos ? "not an executable file"
+                                                                              : "no executable of this name in PATH"));
+    }
 
     // The tags' images, one pixel per cell, named by their content.
     for (const Job& j : jobs) {
@@ -348,8 +332,8 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
     // One scene for every missing frame, numbered 1..M in job order.
     std::string keys;
     for (const Job& j : jobs) keys += j.key;
-    // The owner first, so that a later run can clear this batch's files should this process be killed.
-    clear_dead_batches(dir);
+    // The owner first, so that a later run can clear this batch's files should this process be killed;
+    // the keys, so that it can keep the frames this batch finished (render_batches.hpp).
     const std::string batch = owner_tag() + "-" + key_of(keys).substr(0, 12);
     std::string cases = "#switch (frame_number)\n";
     for (std::size_t k = 0; k < jobs.size(); ++k) cases += frame_case(static_cast<int>(k + 1), *jobs[k].frame, jobs[k].scene);
@@ -357,6 +341,9 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
     std::string scene = scene_template;
     scene.replace(scene.find(kPlaceholder), std::string(kPlaceholder).size(), cases);
     const std::string scene_file = "batch-" + batch + ".pov";
+    std::vector<std::string> job_keys;
+    for (const Job& j : jobs) job_keys.push_back(j.key);
+    write_batch_keys(dir, batch, job_keys);
     write_file_atomic(dir / scene_file, scene);
     const int total = static_cast<int>(jobs.size());
     const int final_frame = std::max(total, 2);  // +KFF1 would switch animation (and frame-numbered names) off
@@ -478,6 +465,7 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
     std::error_code ec;
     // Kept otherwise, as POV-Ray's messages cite its lines, until the next run that renders (clear_dead_batches).
     if (report.failed == 0) fs::remove(dir / scene_file, ec);
+    fs::remove(dir / ("batch-" + batch + ".keys"), ec);
     for (std::size_t i = 0; i < frames.size(); ++i) {
       if (frame_job[i] < 0) continue;
       const Job& j = jobs[static_cast<std::size_t>(frame_job[i])];

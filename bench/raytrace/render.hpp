@@ -13,8 +13,8 @@
 // determines its pixels (scene template, pose, family, id, tag cells, tag size, per-frame SDL, render
 // settings), written under a temporary name and renamed once it decodes, so an interrupted run resumes
 // where it stopped and a rerun renders nothing. POV-Ray dies with the process that started it (a
-// kill -9 leaves no povray rendering on), and the next run that renders removes the scene, logs and
-// unfinished frames of runs that are gone.
+// kill -9 leaves no povray rendering on), and the next run keeps the frames such a run finished and
+// removes its scene, logs and unfinished frames (render_batches.hpp).
 #include <cstddef>
 #include <filesystem>
 #include <functional>
@@ -112,7 +112,8 @@ struct RenderReport {
 // RenderedFrame and the others go on. Throws std::invalid_argument for a bad frame (unknown family, id
 // out of range, tag_size <= 0, non-finite pose, tag not in front of the camera, a scene template
 // without exactly one placeholder), and std::runtime_error "povray not found: install the Debian
-// package povray" when something must be rendered and the executable is missing.
+// package povray" when something must be rendered and the executable is missing ("povray 'X': not
+// an executable file" or "...: no executable of this name in PATH" when options.povray names another).
 RenderReport render_frames(const std::vector<FramePose>& frames, const std::string& scene_template,
                            const RenderOptions& options);
 

@@ -3,6 +3,7 @@
 // detectors' pixels with their truth, and bad options are refused with one line and no output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -101,6 +102,33 @@ TEST(CliRealistic, BadOptionsAreOneLineAndWriteNothing) {
   const Result r = run("--frames 1 --out " + (file / "sub").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
+}
+
+// --export-frames into an earlier export replaces it whole (no frame of the earlier set is left); a
+// folder holding anything else is refused before any frame is made, and nothing in it is touched.
+TEST(CliRealistic, ExportReplacesAnEarlierExportAndRefusesOtherFolders) {
+  const fs::path frames = scratch() / "export_again", out = scratch() / "export_again_out";
+  ASSERT_EQ(run("--frames 3 --seed 5 --detectors aruco --out " + out.string() + " --export-frames " + frames.string()).code, 0);
+  ASSERT_TRUE(fs::exists(frames / "frame-00002.json"));
+  ASSERT_EQ(run("--frames 1 --seed 6 --detectors aruco --out " + out.string() + " --export-frames " + frames.string()).code, 0);
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(frames)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"frame-00000.jpg", "frame-00000.json", "set.json"}));
+  tagbench::bench::RealisticSettings s;
+  s.seed = 6;
+  EXPECT_EQ(slurp(frames / "frame-00000.json"), tagbench::bench::frame_truth_json(s, tagbench::bench::make_realistic_frame(s, 0)));
+
+  const fs::path other = scratch() / "export_other";
+  fs::create_directories(other);
+  { std::ofstream(other / "frame-00000.jpg") << "mine"; }
+  { std::ofstream(other / "notes.txt") << "mine"; }
+  const Result r = run("--frames 1 --detectors aruco --out " + out.string() + " --export-frames " + other.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("notes.txt"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(other / "frame-00000.jpg"), "mine");
+  EXPECT_TRUE(fs::exists(other / "notes.txt"));
 }
 
 TEST(CliRealistic, HelpNamesTheFiles) {

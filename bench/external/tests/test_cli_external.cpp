@@ -4,7 +4,13 @@
 // failing external detector stops the run with one line and no output.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -144,6 +150,61 @@ TEST(CliExternal, AFailingExternalDetectorIsOneLineAndWritesNothing) {
   r = run_tagbench(sweep() + " --detectors " + shell_quote("external:x=a 'b") + " --out " + (dir / "o").string(), dir.path());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("unclosed single quote"), std::string::npos) << r.err;
+}
+
+
+// Ctrl-C while an external detector runs: the detector's process group (which the terminal's signal
+// does not reach, being a group of its own) is killed with us, its own children too, and the work
+// folder our killed run left is removed by the next run that starts an external detector.
+TEST(CliExternal, SigintKillsTheDetectorsChildrenAndTheNextRunRemovesTheWorkFolder) {
+  if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray not installed";
+  tagbench::testing::ScratchDir dir("tagbench_cli_external_sigint");
+  const fs::path tmp = dir / "tmp", gc = dir / "grandchild.pid";
+  fs::create_directories(tmp);
+  const std::string detector = "external:slow=sh -c 'sleep 300 & echo $! > " + gc.string() + "; wait'";
+  std::string cmd = "exec " + std::string(TAGBENCH_BIN) + " " + sweep() + " --detectors " + shell_quote(detector) +
+                    " --out " + shell_quote((dir / "o").string()) + " >/dev/null 2>/dev/null </dev/null";
+  const std::string saved_tmpdir = std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "";
+  const bool had_tmpdir = std::getenv("TMPDIR") != nullptr;
+  ::setenv("TMPDIR", tmp.c_str(), 1);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ASSERT_GT(pid, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(300);
+  while (!(fs::exists(gc) && !slurp(gc).empty()) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ::kill(pid, SIGINT);
+  int st = 0;
+  ASSERT_EQ(::waitpid(pid, &st, 0), pid);
+  EXPECT_TRUE(WIFSIGNALED(st) && WTERMSIG(st) == SIGINT) << st;
+  const int gc_pid = std::atoi(slurp(gc).c_str());
+  ASSERT_GT(gc_pid, 0);
+  // Gone, or a zombie waiting for a reaper (the sleep was killed).
+  const auto alive = [&] {
+    const std::string stat = slurp("/proc/" + std::to_string(gc_pid) + "/stat");
+    const auto close = stat.rfind(')');
+    return close != std::string::npos && close + 2 < stat.size() && stat[close + 2] != 'Z';
+  };
+  for (int i = 0; i < 100 && alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_FALSE(alive()) << "the external detector's child outlived the run";
+  const auto work_folders = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(tmp)) n += e.path().filename().string().rfind("tagbench-external-", 0) == 0;
+    return n;
+  };
+  EXPECT_EQ(work_folders(), 1) << "the killed run's work folder";
+  EXPECT_FALSE(fs::exists(dir / "o"));
+  const CommandResult r = run_tagbench(sweep() + " --detectors " + shell_quote("external:bad=sh -c 'read a; exit 4'") +
+                                           " --out " + (dir / "o").string(),
+                                       dir.path());
+  if (had_tmpdir) ::setenv("TMPDIR", saved_tmpdir.c_str(), 1);
+  else ::unsetenv("TMPDIR");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(work_folders(), 0);
 }
 
 }  // namespace

@@ -4,12 +4,16 @@
 // frame that fails among good ones, and a missing povray.
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <opencv2/core.hpp>
@@ -19,6 +23,7 @@
 #include "detect/detector.hpp"
 #include "detect/detector_opencv.hpp"
 #include "raytrace/render.hpp"
+#include "tools/atomic_file.hpp"
 #include "test_frames.hpp"
 
 namespace test_render {
@@ -200,13 +205,22 @@ TEST(RaytraceRender, MissingPovrayIsOneLineNamingThePackage) {
   f.pose.t *= 1.2345;  // a frame in no cache
   RenderOptions o = gentle_options(dir);
   const std::string expected = "povray not found: install the Debian package povray";
-  o.povray = (dir / "no-such-povray").string();
-  try {
-    render_frames({f}, scene_template(SceneKind::kPlain), o);
-    ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), expected);
+  // A path or a name other than the default: the message names it.
+  const fs::path not_executable = dir / "not-executable";
+  { std::ofstream(not_executable) << "#!/bin/sh\n"; }
+  for (const auto& [given, why] : std::vector<std::pair<std::string, std::string>>{
+           {(dir / "no-such-povray").string(), "not an executable file"},
+           {not_executable.string(), "not an executable file"},
+           {"no-such-povray-name", "no executable of this name in PATH"}}) {
+    o.povray = given;
+    try {
+      render_frames({f}, scene_template(SceneKind::kPlain), o);
+      ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), "povray '" + given + "': " + why);
+    }
   }
+  fs::remove(not_executable);
   // Through PATH: an empty directory holds no povray.
   const FreshDir empty_scratch("emptypath");
   const fs::path& empty = empty_scratch.path;
@@ -345,6 +359,48 @@ TEST(RaytraceCache, RerunRendersNothingAndLostOrDamagedFramesAreRenderedAgain) {
   ASSERT_TRUE(third.frames[0].ok() && third.frames[1].ok());
   EXPECT_EQ(cv::norm(read_frame_gray(third.frames[0].png), pa, cv::NORM_INF), 0);
   EXPECT_EQ(cv::norm(read_frame_gray(third.frames[1].png), pb, cv::NORM_INF), 0);
+}
+
+// A run killed while POV-Ray rendered (Ctrl-C, kill -9) leaves its batch's files. The next run keeps
+// the frames that batch finished (no povray needed for them), drops its half-written image, scene,
+// key list and log, and leaves a live run's batch alone.
+TEST(RaytraceCache, AKilledRunsFinishedFramesAreKeptAndItsOtherFilesRemoved) {
+  const FreshDir scratch("deadbatch");
+  const fs::path& dir = scratch.path;
+  FramePose a, b;
+  a.id = 5;
+  a.pose = view_pose({.distance = 1.7, .phi_deg = 10, .tilt_axis_deg = 0});
+  b.id = 6;
+  b.pose = view_pose({.distance = 1.7, .phi_deg = 10, .tilt_axis_deg = 90});
+  const std::string& plain = scene_template(SceneKind::kPlain);
+  const std::string ka = frame_cache_key(a, plain), kb = frame_cache_key(b, plain);
+  const pid_t pid = ::fork();
+  if (pid == 0) ::_exit(0);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string dead = tagbench::owner_tag(pid) + "-0123456789ab", alive = tagbench::owner_tag() + "-ba9876543210";
+  cv::Mat frame(kRenderHeight, kRenderWidth, CV_8UC1, cv::Scalar(77));
+  ASSERT_TRUE(cv::imwrite((dir / ("tmp-" + dead + "-1.png")).string(), frame));
+  std::vector<std::uint8_t> png;
+  ASSERT_TRUE(cv::imencode(".png", frame, png));
+  { std::ofstream(dir / ("tmp-" + dead + "-2.png"), std::ios::binary).write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size() / 2)); }
+  { std::ofstream(dir / ("batch-" + dead + ".keys")) << ka << "\n" << kb << "\n"; }
+  { std::ofstream(dir / ("batch-" + dead + ".pov")) << "scene"; }
+  { std::ofstream(dir / ("batch-" + dead + "-w0-0.log")) << "log"; }
+  { std::ofstream(dir / ("batch-" + alive + ".pov")) << "scene"; }
+  ASSERT_TRUE(cv::imwrite((dir / ("tmp-" + alive + "-1.png")).string(), frame));
+
+  RenderOptions o = gentle_options(dir);
+  o.povray = (dir / "no-such-povray").string();
+  const RenderReport r = render_frames({a}, plain, o);  // frame a: kept from the dead batch, no povray
+  EXPECT_EQ(r.from_cache, 1u);
+  EXPECT_EQ(r.rendered, 0u);
+  ASSERT_TRUE(r.frames[0].ok()) << r.frames[0].error;
+  EXPECT_EQ(cv::norm(read_frame_gray(r.frames[0].png), frame, cv::NORM_INF), 0);
+  EXPECT_EQ(files_in(dir), (std::set<std::string>{"frame-" + ka + ".png", "batch-" + alive + ".pov",
+                                                   "tmp-" + alive + "-1.png"}));
+  // Frame b's image was half written: it is rendered (here: refused, as there is no povray).
+  EXPECT_THROW(render_frames({b}, plain, o), std::runtime_error);
 }
 
 // The first of ten frames fails (POV-Ray stops at it); the other nine are rendered by a second run.
