@@ -111,6 +111,7 @@ std::vector<ManifestRow> parse_manifest(const std::string& text, const std::stri
   const auto lines = lines_of(text);
   if (lines.empty() || lines[0] != kManifestHeader) throw std::runtime_error(name + ":1: not a corpus manifest header");
   std::vector<ManifestRow> out;
+  std::map<std::string, std::size_t> line_of;  // file -> its line: a file listed twice would be counted twice
   for (std::size_t i = 1; i < lines.size(); ++i) {
     if (lines[i].empty()) continue;
     const std::string where = name + ":" + std::to_string(i + 1) + ": ";
@@ -133,6 +134,8 @@ std::vector<ManifestRow> parse_manifest(const std::string& text, const std::stri
     }
     if ((r.kind == "video-frame") != (r.frame >= 0))
       throw std::runtime_error(where + "a video frame needs a frame index and a still none");
+    if (const auto [it, fresh] = line_of.emplace(r.file, i + 1); !fresh)
+      throw std::runtime_error(where + "file '" + r.file + "' is already on line " + std::to_string(it->second));
     out.push_back(std::move(r));
   }
   return out;

@@ -76,6 +76,14 @@ TEST(Manifest, RoundTrip) {
     bad.replace(bad.find(from), from.size(), to);
     EXPECT_THROW(parse_manifest(bad, "m.tsv"), std::runtime_error) << from;
   }
+  // A file listed twice (it would be scored twice).
+  const std::string twice = text + text.substr(text.find('\n') + 1, text.find('\n', text.find('\n') + 1) - text.find('\n'));
+  try {
+    parse_manifest(twice, "m.tsv");
+    ADD_FAILURE() << "a file listed twice was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "m.tsv:5: file 'stills/g/a.png' is already on line 2");
+  }
   auto tabbed = rows;
   tabbed[0].licence = "a\tb";
   EXPECT_THROW(manifest_tsv(tabbed), std::runtime_error);
