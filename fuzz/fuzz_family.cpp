@@ -64,9 +64,23 @@ void write(const std::filesystem::path& p, const std::string& text) {
   if (!out) fuzz::check_failed("write", __FILE__, __LINE__, "cannot write " + p.string());
 }
 
-void check_checkpoint(const std::string& text) {
-  static const std::filesystem::path path =
+// The checkpoint file of this process, removed when the process ends normally (every fuzz run left
+// one in the temporary folder).
+struct CheckpointFile {
+  std::filesystem::path path =
       std::filesystem::temp_directory_path() / ("tagbench-fuzz-" + std::to_string(::getpid()) + ".ckpt");
+  CheckpointFile() = default;
+  CheckpointFile(const CheckpointFile&) = delete;
+  CheckpointFile& operator=(const CheckpointFile&) = delete;
+  ~CheckpointFile() {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+  }
+};
+
+void check_checkpoint(const std::string& text) {
+  static const CheckpointFile file;
+  const std::filesystem::path& path = file.path;
   write(path, text);
   std::optional<tagbench::Checkpoint> c;
   try {
