@@ -130,6 +130,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "look_half") o.second_look.at_half_resolution = x != 0;
     else if (k == "look_inside") o.second_look.inside_only = x != 0;
     else if (k == "look_gap") o.second_look.min_class_gap = x;
+    else if (k == "look_skiprej") o.second_look.skip_border_rejected = x != 0;
     else if (k == "outer_half") o.threshold_quads.fit.outer.at_half_resolution = x != 0;
     else if (k == "soft") o.soft_decode.enabled = x != 0;
     else if (k == "soft_d1") o.soft_decode.max_distance = x;
@@ -167,6 +168,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "lq_rb") o.line_quads.refine_black = x != 0;
     else if (k == "lq_spare") o.line_quads.spare_bits = static_cast<int>(x);
     else if (k == "lq_check") o.line_quads.check_before_refining = x != 0;
+    else if (k == "lq_slack") o.line_quads.inner_check_slack = x != 0;
     else if (k == "lq_ri") o.line_quads.refine_inner = x != 0;
     else if (k == "ls_sigma") o.line_quads.segments.sigma = x;
     else if (k == "ls_tau") o.line_quads.segments.angle_tolerance_deg = x;

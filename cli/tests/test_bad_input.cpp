@@ -434,7 +434,7 @@ const std::vector<Case>& cases() {
       {"raytrace_povray_path_missing", folder("cache"),
        {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-paper", "--cache", "cache",
         "--povray", "./nopovray", "--out", "out"},
-       1, {"povray not found"}},
+       1, {"povray './nopovray': not an executable file"}},
       {"raytrace_disk_full", all({folder("cache"), folder("out"), cached_raytrace_frame}),
        {"raytrace", "angle", "--trials", "1", "--angles", "0", "--detectors", "tagbench-paper", "--cache", "cache", "--out",
         "out"},

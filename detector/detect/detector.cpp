@@ -198,8 +198,11 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   std::vector<Quad> again;  // the second look's quads (their outcomes follow found.quads')
   if (second_look) {  // second_look.hpp: the quads that did not decode, looked at again
     std::vector<bool> look(found.quads.size());
-    for (std::size_t i = 0; i < look.size(); ++i)
-      look[i] = (*outcomes)[first_outcome + i].fate != QuadOutcome::Fate::kDecoded;
+    for (std::size_t i = 0; i < look.size(); ++i) {
+      const QuadOutcome::Fate fate = (*outcomes)[first_outcome + i].fate;
+      look[i] = wants_second_look(fate == QuadOutcome::Fate::kDecoded, fate == QuadOutcome::Fate::kBorderRejected,
+                                  opt_.second_look);
+    }
     again = second_look_quads(gray, found.quads, look, opt_.threshold_quads, opt_.second_look);
     decode_more(again);
     if (opt_.group_look.enabled && !opt_.half_resolution)  // group_look.hpp: groups that gave no quad
@@ -263,11 +266,15 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     // then (those still uncovered) as printed squares; each refined before reading or, when its
     // refine_black / refine_inner option is off, only the tags it gives, after reading.
     const int max_d = max_payload_width(families_);
-    const auto refined = [&](const std::vector<Quad>& quads) {
+    const auto refined = [&](const std::vector<Quad>& quads, bool inner) {
       std::vector<Quad> out;
+      const ImageF& img = *found.decode_image;
+      const double contrast = opt_.payload.min_contrast;
       for (const Quad& q : quads)
         if (opt_.line_quads.check_before_refining && opt_.payload.quick_reject &&
-            !border_contrast_plausible(*found.decode_image, q.corners, max_d, opt_.payload.min_contrast))
+            !border_contrast_plausible(img, q.corners, max_d, contrast) &&
+            !(inner && opt_.line_quads.inner_check_slack &&
+              border_contrast_plausible_with_slack(img, q.corners, max_d, contrast, 4)))
           continue;
         else if (auto r = refine_quad_edges(gray, q.corners, opt_.threshold_quads.refine)) {
           out.push_back(q);
@@ -275,10 +282,10 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
         }
       return out;
     };
-    const auto read = [&](const std::vector<Quad>& quads, bool refine_first) {
+    const auto read = [&](const std::vector<Quad>& quads, bool refine_first, bool inner) {
       const std::size_t first_new = decoded.size();
       const std::size_t first_read = outcomes ? outcomes->size() : 0;
-      decode_more(refine_first ? refined(quads) : quads);
+      decode_more(refine_first ? refined(quads, inner) : quads);
       // Hundreds of such quads a frame are read: a tag from them must be spare_bits closer to its code
       // than a family corrects (a 36h11 false detection on the corpus and a misplaced quad on the
       // realistic set were both 2 bits off).
@@ -301,11 +308,11 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       if (!refine_first) refine_since(first_new);
     };
     std::vector<Quad> lq = line_quads(gray, covered(), opt_.line_quads, workspace.impl().line_quads);
-    read(lq, opt_.line_quads.refine_black);
+    read(lq, opt_.line_quads.refine_black, false);
     const std::vector<Corners> now = covered();
     std::vector<bool> look(lq.size());
     for (std::size_t i = 0; i < lq.size(); ++i) look[i] = !centre_covered(lq[i], now);
-    read(black_squares_in_printed_squares(lq, look, widths), opt_.line_quads.refine_inner);
+    read(black_squares_in_printed_squares(lq, look, widths), opt_.line_quads.refine_inner, true);
   }
   if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their likeliest code
     PayloadAreaOptions area = opt_.payload_area;

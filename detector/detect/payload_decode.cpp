@@ -53,6 +53,30 @@ bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector
   return good >= 3;
 }
 
+bool border_contrast_plausible_with_slack(const ImageF& img, const std::array<Eigen::Vector2d, 4>& c, int d,
+                                          double min_contrast, int min_sides) {
+  const double cell = 2.0 / (d + 2);  // a ring cell, in units of the tag's half-width
+  const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+  int good = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d m = 0.5 * (c[i] + c[(i + 1) % 4]) - centre;
+    float lightest_out = -HUGE_VALF, darkest_in = HUGE_VALF;
+    bool inside = true;
+    for (const double f : {0.25, 0.5, 0.75, 1.0}) {
+      const auto v = sample_bilinear(img, centre + (1 + f * cell) * m);
+      inside = inside && v.has_value();
+      if (v) lightest_out = std::max(lightest_out, *v);
+    }
+    for (const double f : {0.25, 0.5, 0.75}) {
+      const auto v = sample_bilinear(img, centre + (1 - f * cell) * m);
+      inside = inside && v.has_value();
+      if (v) darkest_in = std::min(darkest_in, *v);
+    }
+    if (inside && lightest_out - darkest_in >= min_contrast) ++good;
+  }
+  return good >= min_sides;
+}
+
 std::optional<PayloadReading> decide_cells(std::span<const double> grid, std::span<const double> payload, int d,
                                            double min_contrast) {
   const int n = d + 4;

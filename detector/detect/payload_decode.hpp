@@ -53,6 +53,13 @@ struct PayloadReading {
 bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector2d, 4>& corners, int d,
                                double min_contrast);
 
+// The same test with slack, for a quad placed a pixel or two off (a printed square's inner square,
+// printed_square.hpp, inherits the outer quad's error): per side the lightest of four samples 0.25 to
+// 1 ring cell outward against the darkest of three 0.25 to 0.75 ring cell inward must differ by
+// min_contrast, on at least min_sides sides (1..4). A sample outside the image fails its side.
+bool border_contrast_plausible_with_slack(const ImageF& img, const std::array<Eigen::Vector2d, 4>& corners, int d,
+                                          double min_contrast, int min_sides);
+
 // Bilinear intensity at a sub-pixel point p inside [0, w-1] x [0, h-1] of a non-empty image (the
 // caller has checked). Inline: edge refinement (edge_refine.hpp) takes thousands per quad.
 inline float sample_bilinear_inside(const ImageF& img, const Eigen::Vector2d& p) {

@@ -92,4 +92,8 @@ std::vector<Quad> second_look_quads(const ImageF& img, std::span<const Quad> qua
   return out;
 }
 
+bool wants_second_look(bool decoded, bool border_rejected, const SecondLookOptions& opt) {
+  return !decoded && !(opt.skip_border_rejected && border_rejected);
+}
+
 }  // namespace tagbench

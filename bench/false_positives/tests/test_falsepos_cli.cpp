@@ -261,7 +261,7 @@ TEST(FalseposCli, RefusesBadInputInOneLineWithoutOutput) {
       {"falsepos margin --corpus " + (s.path() / "empty").string() + " --out " + out.string(), "no images", 1},
       {"falsepos margin --corpus " + (s.path() / "one").string() + " --out " + out.string() +
            " --povray ./nopovray --trials 1 --distances 2 --conditions none --cache " + (s.path() / "cache").string(),
-       "povray not found", 1},
+       "povray './nopovray': not an executable file", 1},
       {"falsepos frobnicate", "unknown subcommand 'frobnicate'", 2},
   };
   for (const auto& c : cases) {

@@ -105,14 +105,21 @@ TEST(CliRaytrace, BadOptionsAreRefusedWithOneLineAndNoOutput) {
   EXPECT_FALSE(fs::exists(scratch() / "refused-cache")) << "nothing created for refused options";
 }
 
-TEST(CliRaytrace, MissingPovrayIsOneLineNamingThePackage) {
+// A path or a name given with --povray that cannot be run: that one (the default name missing from
+// PATH names the package to install: test_bad_input).
+TEST(CliRaytrace, MissingPovrayIsOneLineNamingThePackageOrThePath) {
   const fs::path out = scratch() / "nopovray", cache = scratch() / "nopovray-cache";
   fs::remove_all(out);
   fs::remove_all(cache);
-  const Result r = run("angle --trials 1 --angles 10 --detectors tagbench-paper --povray /nonexistent/povray --cache " +
-                       cache.string() + " --out " + out.string());
+  Result r = run("angle --trials 1 --angles 10 --detectors tagbench-paper --povray /nonexistent/povray --cache " +
+                 cache.string() + " --out " + out.string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.err, "tagbench raytrace: povray not found: install the Debian package povray\n");
+  EXPECT_EQ(r.err, "tagbench raytrace: povray '/nonexistent/povray': not an executable file\n");
+  EXPECT_FALSE(fs::exists(out));
+  r = run("angle --trials 1 --angles 10 --detectors tagbench-paper --povray no-such-povray-name --cache " +
+          cache.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err, "tagbench raytrace: povray 'no-such-povray-name': no executable of this name in PATH\n");
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -118,6 +118,34 @@ TEST(DecodeQuads, QuickRejectAppliesTheBorderPreFilter) {
   EXPECT_TRUE(readings.empty());  // rejected before anything was read
 }
 
+// The check with slack admits a quad placed 0.6 of a ring cell outside the black square (as an inner
+// square inherits its printed square's error), which the plain check refuses; not one 1.5 x too large,
+// nor one on a flat image, nor one whose side leaves the image.
+TEST(DecodeQuads, BorderCheckWithSlackAdmitsAQuadAFractionOfACellOff) {
+  const TagFamily& f = builtin_family("16h5");  // d = 4: a ring cell is a third of the half-width
+  const ImageF img = synth::render_tag(180, 180, tag_cells(f, 11), synth::homography_for(kTruth));
+  const auto scaled = [](double k) {
+    Corners c = kTruth;
+    const Eigen::Vector2d centre(90, 90);
+    for (auto& p : c) p = centre + k * (p - centre);
+    return c;
+  };
+  const double contrast = PayloadOptions{}.min_contrast;
+  EXPECT_TRUE(border_contrast_plausible(img, kTruth, 4, contrast));
+  EXPECT_TRUE(border_contrast_plausible_with_slack(img, kTruth, 4, contrast, 4));
+  const Corners off = scaled(1.2);  // each side 10 px (0.6 cell) outward
+  EXPECT_FALSE(border_contrast_plausible(img, off, 4, contrast));
+  EXPECT_TRUE(border_contrast_plausible_with_slack(img, off, 4, contrast, 4));
+  EXPECT_FALSE(border_contrast_plausible_with_slack(img, scaled(1.5), 4, contrast, 1));
+  ImageF flat = img;
+  for (float& v : flat.data) v = 0.5f;
+  EXPECT_FALSE(border_contrast_plausible_with_slack(flat, kTruth, 4, contrast, 1));
+  // A quad whose outward samples leave the image: those sides fail.
+  Corners edge = kTruth;
+  for (auto& p : edge) p += Eigen::Vector2d(-35, 0);
+  EXPECT_FALSE(border_contrast_plausible_with_slack(img, edge, 4, contrast, 4));
+}
+
 // hamming_by_family: each family corrects at most min(max_hamming, (h - 1) / 3) bits, so one max_hamming
 // of 3 lets a 36h11 tag (h = 11) with 3 bits flipped through but not a 16h5 tag (h = 5) with 2 flipped.
 TEST(DecodeQuads, BitsCorrectedByFamilyFollowTheFamilysDistance) {

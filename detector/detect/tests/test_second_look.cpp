@@ -102,4 +102,18 @@ TEST(SecondLook, ValidateRefusesOptionsOutOfRange) {
   DetectorOptions{}.validate();
 }
 
+// Which quads are looked at again: those that did not decode; with skip_border_rejected not those
+// the border pre-filter refused.
+TEST(SecondLook, LooksAtUndecodedQuadsAndOptionallyNotAtRefusedOnes) {
+  SecondLookOptions o;
+  EXPECT_FALSE(wants_second_look(true, false, o));
+  EXPECT_TRUE(wants_second_look(false, false, o));
+  EXPECT_TRUE(wants_second_look(false, true, o));
+  o.skip_border_rejected = true;
+  EXPECT_FALSE(wants_second_look(true, false, o));
+  EXPECT_TRUE(wants_second_look(false, false, o));
+  EXPECT_FALSE(wants_second_look(false, true, o));
+  EXPECT_TRUE(DetectorOptions{}.second_look.skip_border_rejected);  // the default profile
+}
+
 }  // namespace test_second_look
