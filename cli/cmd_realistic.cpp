@@ -91,17 +91,20 @@ std::string frame_name(int index, const char* ext) {
 // --export-frames DIR: missing, empty or an earlier export, whose files are removed so that the
 // folder never mixes frames of two sets. Anything else in it refuses the run (nothing is removed).
 bool is_export_file(const std::string& name) {
-  if (name == "set.json") return true;
-  // frame-NNNNN.jpg|png|json, or a temporary of one (TARGET.tmp.OWNER; remove_stale_temporaries)
-  const auto frame = [](std::string_view n) {
-    if (n.size() < 12 || n.substr(0, 6) != "frame-") return false;
-    for (std::size_t i = 6; i < 11; ++i)
+  // set.json, frame-N.jpg|png|json (N five digits or more: frame_name), or a temporary of one
+  // (TARGET.tmp.OWNER; remove_stale_temporaries).
+  const auto mine = [](std::string_view n) {
+    if (n == "set.json") return true;
+    if (!n.starts_with("frame-")) return false;
+    const std::size_t dot = n.find('.', 6);
+    if (dot == std::string_view::npos || dot < 11) return false;
+    for (std::size_t i = 6; i < dot; ++i)
       if (n[i] < '0' || n[i] > '9') return false;
-    const std::string_view ext = n.substr(11);
+    const std::string_view ext = n.substr(dot);
     return ext == ".jpg" || ext == ".png" || ext == ".json";
   };
   const auto tmp = name.find(".tmp.");
-  return frame(tmp == std::string::npos ? std::string_view(name) : std::string_view(name).substr(0, tmp));
+  return mine(tmp == std::string::npos ? std::string_view(name) : std::string_view(name).substr(0, tmp));
 }
 
 void prepare_export_folder(const std::filesystem::path& dir) {

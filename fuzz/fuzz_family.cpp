@@ -64,8 +64,8 @@ void write(const std::filesystem::path& p, const std::string& text) {
   if (!out) fuzz::check_failed("write", __FILE__, __LINE__, "cannot write " + p.string());
 }
 
-// The checkpoint file of this process, removed when the process ends normally (every fuzz run left
-// one in the temporary folder).
+// The checkpoint file of this process, removed when it goes out of scope (every fuzz run left one in
+// the temporary folder).
 struct CheckpointFile {
   std::filesystem::path path =
       std::filesystem::temp_directory_path() / ("tagbench-fuzz-" + std::to_string(::getpid()) + ".ckpt");
@@ -79,7 +79,8 @@ struct CheckpointFile {
 };
 
 void check_checkpoint(const std::string& text) {
-  static const CheckpointFile file;
+  // Removed after each input (libFuzzer can end the process with _Exit, which runs no destructor).
+  const CheckpointFile file;
   const std::filesystem::path& path = file.path;
   write(path, text);
   std::optional<tagbench::Checkpoint> c;

@@ -1,6 +1,7 @@
 #include "tools/child_process.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -25,16 +26,43 @@ constexpr int kGroupSlots = 64;
 std::atomic<pid_t> g_groups[kGroupSlots];
 constexpr int kForwarded[] = {SIGINT, SIGTERM, SIGHUP};
 struct sigaction g_previous[3];
+bool g_installed[3];     // a signal that was ignored (nohup, a background job) is left ignored
 std::mutex g_groups_mu;  // guards g_running and the installing and restoring of the handlers
 int g_running = 0;
 
 extern "C" void kill_child_groups(int sig) {
+  const int saved_errno = errno;
   for (auto& g : g_groups)
     if (const pid_t p = g.load(); p > 0) ::kill(-p, SIGKILL);
   for (int i = 0; i < 3; ++i)
     if (kForwarded[i] == sig) ::sigaction(sig, &g_previous[i], nullptr);
-  ::raise(sig);
+  ::raise(sig);  // the earlier course: by default the end of this process
+  errno = saved_errno;
 }
+
+// SIGINT, SIGTERM and SIGHUP blocked while a child is forked and registered, so that none arrives
+// between the fork and the registration (the child's group would outlive us).
+class ForwardedBlocked {
+ public:
+  ForwardedBlocked() {
+    sigset_t s;
+    sigemptyset(&s);
+    for (const int sig : kForwarded) sigaddset(&s, sig);
+    ::pthread_sigmask(SIG_BLOCK, &s, &old_);
+  }
+  ~ForwardedBlocked() { restore(); }
+  void restore() {
+    if (!restored_) ::pthread_sigmask(SIG_SETMASK, &old_, nullptr);
+    restored_ = true;
+  }
+  const sigset_t& old() const { return old_; }
+  ForwardedBlocked(const ForwardedBlocked&) = delete;
+  ForwardedBlocked& operator=(const ForwardedBlocked&) = delete;
+
+ private:
+  sigset_t old_;
+  bool restored_ = false;
+};
 
 // Registers a child's process group while it lives (kill_child_groups above).
 class ChildGroup {
@@ -49,14 +77,19 @@ class ChildGroup {
       struct sigaction a {};
       a.sa_handler = kill_child_groups;
       sigemptyset(&a.sa_mask);
-      for (int i = 0; i < 3; ++i) ::sigaction(kForwarded[i], &a, &g_previous[i]);
+      for (int i = 0; i < 3; ++i) {
+        ::sigaction(kForwarded[i], nullptr, &g_previous[i]);
+        g_installed[i] = g_previous[i].sa_handler != SIG_IGN;
+        if (g_installed[i]) ::sigaction(kForwarded[i], &a, nullptr);
+      }
     }
   }
   ~ChildGroup() {
     std::lock_guard lock(g_groups_mu);
     if (slot_ >= 0) g_groups[slot_].store(0);
     if (--g_running == 0)
-      for (int i = 0; i < 3; ++i) ::sigaction(kForwarded[i], &g_previous[i], nullptr);
+      for (int i = 0; i < 3; ++i)
+        if (g_installed[i]) ::sigaction(kForwarded[i], &g_previous[i], nullptr);
   }
   ChildGroup(const ChildGroup&) = delete;
   ChildGroup& operator=(const ChildGroup&) = delete;
@@ -112,11 +145,13 @@ ChildStatus run_child_io(const std::vector<std::string>& argv, const std::filesy
   const std::string dir = cwd.string(), in = io.stdin_file.string(), out = io.stdout_file.string(),
                     err = io.stderr_file.string();
   const pid_t parent = ::getpid();
+  ForwardedBlocked blocked;
   const pid_t pid = ::fork();
   if (pid < 0) throw std::runtime_error("cannot start " + argv[0] + ": fork failed");
   if (pid == 0) {  // only async-signal-safe calls from here on
     if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(126);
     ::setpgid(0, 0);
+    ::pthread_sigmask(SIG_SETMASK, &blocked.old(), nullptr);
     const int i = ::open(in.c_str(), O_RDONLY);
     const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -131,6 +166,7 @@ ChildStatus run_child_io(const std::vector<std::string>& argv, const std::filesy
   }
   ::setpgid(pid, pid);  // also here, so the group exists before any kill below
   const ChildGroup group(pid);
+  blocked.restore();
   ChildStatus s;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(io.timeout_seconds);
   int st = 0;

@@ -4,6 +4,8 @@
 #include <atomic>
 #include <map>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 
 #include "tools/atomic_file.hpp"
 #include "tools/child_process.hpp"
@@ -127,12 +129,25 @@ std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::
   return got;
 }
 
-std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::vector<std::string>& images) {
-  static std::atomic<int> counter{0};
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("tagbench-external-" + owner_tag() + "-run" + std::to_string(counter++));
+std::filesystem::path make_external_work_dir(const std::string& tag) {
+  constexpr std::string_view kPrefix = "tagbench-external-";
+  const std::filesystem::path tmp = std::filesystem::temp_directory_path();
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(tmp, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string n = it->path().filename().string();
+    std::error_code rec;
+    if (n.starts_with(kPrefix) && owner_prefix_is_gone(n.substr(kPrefix.size())) && it->is_directory(rec))
+      std::filesystem::remove_all(it->path(), rec);
+  }
+  const std::filesystem::path dir = tmp / (std::string(kPrefix) + owner_tag() + "-" + tag);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::vector<std::string>& images) {
+  static std::atomic<int> counter{0};
+  const std::filesystem::path dir = make_external_work_dir("run" + std::to_string(counter++));
   struct Remove {
     std::filesystem::path p;
     ~Remove() {

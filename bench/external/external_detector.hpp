@@ -36,4 +36,9 @@ std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::
 // The same in a temporary folder of its own (under the system's), removed afterwards.
 std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::vector<std::string>& images);
 
+// A new work folder for external detectors under `tmp` (the system's temporary folder by default):
+// tmp/tagbench-external-OWNER-TAG, emptied. The work folders of runs that are gone (killed, or ended
+// by a signal while a detector ran: run_child_io) are removed first; those of runs still going stay.
+std::filesystem::path make_external_work_dir(const std::string& tag);
+
 }  // namespace tagbench::bench

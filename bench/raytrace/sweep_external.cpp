@@ -17,30 +17,12 @@ namespace tagbench::bench::sweep_detail {
 
 namespace {
 
-constexpr std::string_view kWorkPrefix = "tagbench-external-";
-
-// The work folders (tagbench-external-OWNER-N) of runs that are gone (killed, or ended by a signal
-// while an external detector ran), removed with what they hold; those of runs still going are kept.
-void remove_dead_work_dirs(const std::filesystem::path& tmp) {
-  std::error_code ec;
-  for (std::filesystem::directory_iterator it(tmp, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string n = it->path().filename().string();
-    std::error_code rec;
-    if (n.starts_with(kWorkPrefix) && owner_prefix_is_gone(n.substr(kWorkPrefix.size())) && it->is_directory(rec))
-      std::filesystem::remove_all(it->path(), rec);
-  }
-}
-
 // A folder of our own under the system's temporary folder, removed with what it holds.
 class WorkDir {
  public:
   WorkDir() {
     static std::atomic<int> counter{0};
-    const std::filesystem::path tmp = std::filesystem::temp_directory_path();
-    remove_dead_work_dirs(tmp);
-    path_ = tmp / (std::string(kWorkPrefix) + owner_tag() + "-" + std::to_string(counter++));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
+    path_ = make_external_work_dir(std::to_string(counter++));
   }
   ~WorkDir() {
     std::error_code ec;

@@ -119,6 +119,12 @@ TEST(CliRealistic, ExportReplacesAnEarlierExportAndRefusesOtherFolders) {
   s.seed = 6;
   EXPECT_EQ(slurp(frames / "frame-00000.json"), tagbench::bench::frame_truth_json(s, tagbench::bench::make_realistic_frame(s, 0)));
 
+  // Files an export of over 100,000 frames and a run killed while writing set.json leave are its own.
+  { std::ofstream(frames / "frame-100000.jpg") << "x"; }
+  { std::ofstream(frames / "set.json.tmp.1-00000000") << "x"; }
+  ASSERT_EQ(run("--frames 1 --seed 6 --detectors aruco --out " + out.string() + " --export-frames " + frames.string()).code, 0);
+  EXPECT_FALSE(fs::exists(frames / "frame-100000.jpg"));
+
   const fs::path other = scratch() / "export_other";
   fs::create_directories(other);
   { std::ofstream(other / "frame-00000.jpg") << "mine"; }

@@ -102,4 +102,18 @@ TEST_F(ChildProcess, IoFromAndIntoFilesAndATimeLimitThatEndsTheGroup) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10);
 }
 
+// A signal this process ignores (SIGHUP under nohup) stays ignored while a child runs: the child is
+// not killed for it, and the disposition is the same afterwards.
+TEST_F(ChildProcess, AnIgnoredSignalDoesNotKillTheChild) {
+  const fs::path in = dir_.path() / "in2", out = dir_.path() / "out2", err = dir_.path() / "err2";
+  std::ofstream(in) << "";
+  const auto previous = std::signal(SIGHUP, SIG_IGN);
+  const ChildStatus s = tagbench::run_child_io({"sh", "-c", "kill -HUP $PPID; sleep 0.2; echo done"}, dir_.path(),
+                                               tagbench::ChildIo{in, out, err, 20});
+  const auto during = std::signal(SIGHUP, previous);
+  EXPECT_EQ(s.code(), 0) << "killed by signal " << s.signal;
+  EXPECT_EQ(slurp(out), "done\n");
+  EXPECT_EQ(during, SIG_IGN);
+}
+
 }  // namespace test_child_process

@@ -164,22 +164,43 @@ TEST(CliExternal, SigintKillsTheDetectorsChildrenAndTheNextRunRemovesTheWorkFold
   const std::string detector = "external:slow=sh -c 'sleep 300 & echo $! > " + gc.string() + "; wait'";
   std::string cmd = "exec " + std::string(TAGBENCH_BIN) + " " + sweep() + " --detectors " + shell_quote(detector) +
                     " --out " + shell_quote((dir / "o").string()) + " >/dev/null 2>/dev/null </dev/null";
-  const std::string saved_tmpdir = std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "";
-  const bool had_tmpdir = std::getenv("TMPDIR") != nullptr;
+  // TMPDIR for the runs below (and put back however this test ends).
+  struct TmpdirGuard {
+    bool had = std::getenv("TMPDIR") != nullptr;
+    std::string saved = had ? std::getenv("TMPDIR") : "";
+    ~TmpdirGuard() {
+      if (had) ::setenv("TMPDIR", saved.c_str(), 1);
+      else ::unsetenv("TMPDIR");
+    }
+  } tmpdir_guard;
   ::setenv("TMPDIR", tmp.c_str(), 1);
   const pid_t pid = ::fork();
   if (pid == 0) {
+    // SIGINT as a terminal's foreground job gets it, whatever the test runner was started with.
+    ::signal(SIGINT, SIG_DFL);
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
     ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
   ASSERT_GT(pid, 0);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(300);
-  while (!(fs::exists(gc) && !slurp(gc).empty()) && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ::kill(pid, SIGINT);
   int st = 0;
-  ASSERT_EQ(::waitpid(pid, &st, 0), pid);
+  bool ended = false;  // tagbench ended before the detector started (it should not)
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(300);
+  while (!(fs::exists(gc) && !slurp(gc).empty()) && std::chrono::steady_clock::now() < deadline) {
+    if (::waitpid(pid, &st, WNOHANG) == pid) {
+      ended = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!ended) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    ::kill(pid, SIGINT);
+    ASSERT_EQ(::waitpid(pid, &st, 0), pid);
+  }
+  ASSERT_FALSE(ended) << "tagbench ended before the external detector ran: status " << st;
   EXPECT_TRUE(WIFSIGNALED(st) && WTERMSIG(st) == SIGINT) << st;
   const int gc_pid = std::atoi(slurp(gc).c_str());
   ASSERT_GT(gc_pid, 0);
@@ -201,8 +222,6 @@ TEST(CliExternal, SigintKillsTheDetectorsChildrenAndTheNextRunRemovesTheWorkFold
   const CommandResult r = run_tagbench(sweep() + " --detectors " + shell_quote("external:bad=sh -c 'read a; exit 4'") +
                                            " --out " + (dir / "o").string(),
                                        dir.path());
-  if (had_tmpdir) ::setenv("TMPDIR", saved_tmpdir.c_str(), 1);
-  else ::unsetenv("TMPDIR");
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_EQ(work_folders(), 0);
 }

@@ -140,10 +140,17 @@ TEST(DecodeQuads, BorderCheckWithSlackAdmitsAQuadAFractionOfACellOff) {
   ImageF flat = img;
   for (float& v : flat.data) v = 0.5f;
   EXPECT_FALSE(border_contrast_plausible_with_slack(flat, kTruth, 4, contrast, 1));
-  // A quad whose outward samples leave the image: those sides fail.
-  Corners edge = kTruth;
-  for (auto& p : edge) p += Eigen::Vector2d(-35, 0);
-  EXPECT_FALSE(border_contrast_plausible_with_slack(img, edge, 4, contrast, 4));
+  // A tag whose black square ends 10 px from the left edge: the plain check's samples (half a cell
+  // out) stay inside, the outermost slack samples (0.75 and 1 cell out) do not, and that side fails;
+  // the same tag further in passes on all four sides.
+  const Corners near_edge = synth::square_tag_corners(60, 90, 100, 0);
+  const ImageF edge_img = synth::render_tag(180, 180, tag_cells(f, 11), synth::homography_for(near_edge));
+  EXPECT_TRUE(border_contrast_plausible(edge_img, near_edge, 4, contrast));
+  EXPECT_FALSE(border_contrast_plausible_with_slack(edge_img, near_edge, 4, contrast, 4));
+  EXPECT_TRUE(border_contrast_plausible_with_slack(edge_img, near_edge, 4, contrast, 3));
+  const Corners inside = synth::square_tag_corners(90, 90, 100, 0);
+  const ImageF inside_img = synth::render_tag(180, 180, tag_cells(f, 11), synth::homography_for(inside));
+  EXPECT_TRUE(border_contrast_plausible_with_slack(inside_img, inside, 4, contrast, 4));
 }
 
 // hamming_by_family: each family corrects at most min(max_hamming, (h - 1) / 3) bits, so one max_hamming
