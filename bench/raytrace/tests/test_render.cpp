@@ -77,6 +77,16 @@ cv::Mat outside_tag_mask(const FramePose& f, double margin) {
   return mask;
 }
 
+// Two frames of ids `id` and `id` + 1 at `distance` m and `phi` degrees, tilted about axes 90 degrees apart.
+std::pair<FramePose, FramePose> two_frames(int id, double distance, double phi) {
+  FramePose a, b;
+  a.id = id;
+  a.pose = view_pose({.distance = distance, .phi_deg = phi, .tilt_axis_deg = 0});
+  b.id = id + 1;
+  b.pose = view_pose({.distance = distance, .phi_deg = phi, .tilt_axis_deg = 90});
+  return {a, b};
+}
+
 std::set<std::string> files_in(const fs::path& dir) {
   std::set<std::string> s;
   for (const auto& e : fs::directory_iterator(dir)) s.insert(e.path().filename().string());
@@ -306,11 +316,7 @@ TEST(RaytraceCache, RerunRendersNothingAndLostOrDamagedFramesAreRenderedAgain) {
   REQUIRE_POVRAY();
   const FreshDir scratch("cache");
   const fs::path& dir = scratch.path;
-  FramePose a, b;
-  a.id = 3;
-  a.pose = view_pose({.distance = 1.5, .phi_deg = 20, .tilt_axis_deg = 0});
-  b.id = 4;
-  b.pose = view_pose({.distance = 1.5, .phi_deg = 20, .tilt_axis_deg = 90});
+  const auto [a, b] = two_frames(3, 1.5, 20);
   RenderOptions o = gentle_options(dir);
   o.processes = 2;  // two frames: two povray runs at once, frames 1 and 2 of one animation (+SF/+EF)
   std::vector<std::pair<std::size_t, std::size_t>> progress;
@@ -367,11 +373,7 @@ TEST(RaytraceCache, RerunRendersNothingAndLostOrDamagedFramesAreRenderedAgain) {
 TEST(RaytraceCache, AKilledRunsFinishedFramesAreKeptAndItsOtherFilesRemoved) {
   const FreshDir scratch("deadbatch");
   const fs::path& dir = scratch.path;
-  FramePose a, b;
-  a.id = 5;
-  a.pose = view_pose({.distance = 1.7, .phi_deg = 10, .tilt_axis_deg = 0});
-  b.id = 6;
-  b.pose = view_pose({.distance = 1.7, .phi_deg = 10, .tilt_axis_deg = 90});
+  const auto [a, b] = two_frames(5, 1.7, 10);
   const std::string& plain = scene_template(SceneKind::kPlain);
   const std::string ka = frame_cache_key(a, plain), kb = frame_cache_key(b, plain);
   const pid_t pid = ::fork();
