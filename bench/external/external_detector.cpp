@@ -129,8 +129,9 @@ std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::
   return got;
 }
 
-std::filesystem::path make_external_work_dir(const std::string& tag) {
+ExternalWorkDir::ExternalWorkDir() {
   constexpr std::string_view kPrefix = "tagbench-external-";
+  static std::atomic<int> counter{0};
   const std::filesystem::path tmp = std::filesystem::temp_directory_path();
   std::error_code ec;
   for (std::filesystem::directory_iterator it(tmp, ec), end; !ec && it != end; it.increment(ec)) {
@@ -139,23 +140,19 @@ std::filesystem::path make_external_work_dir(const std::string& tag) {
     if (n.starts_with(kPrefix) && owner_prefix_is_gone(n.substr(kPrefix.size())) && it->is_directory(rec))
       std::filesystem::remove_all(it->path(), rec);
   }
-  const std::filesystem::path dir = tmp / (std::string(kPrefix) + owner_tag() + "-" + tag);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  path_ = tmp / (std::string(kPrefix) + owner_tag() + "-" + std::to_string(counter++));
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
+}
+
+ExternalWorkDir::~ExternalWorkDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
 }
 
 std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::vector<std::string>& images) {
-  static std::atomic<int> counter{0};
-  const std::filesystem::path dir = make_external_work_dir("run" + std::to_string(counter++));
-  struct Remove {
-    std::filesystem::path p;
-    ~Remove() {
-      std::error_code ec;
-      std::filesystem::remove_all(p, ec);
-    }
-  } remove{dir};
-  return run_external(d, images, dir);
+  const ExternalWorkDir dir;
+  return run_external(d, images, dir.path());
 }
 
 }  // namespace tagbench::bench

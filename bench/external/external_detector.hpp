@@ -36,9 +36,20 @@ std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::
 // The same in a temporary folder of its own (under the system's), removed afterwards.
 std::vector<ImageDetections> run_external(const ExternalDetector& d, const std::vector<std::string>& images);
 
-// A new work folder for external detectors under `tmp` (the system's temporary folder by default):
-// tmp/tagbench-external-OWNER-TAG, emptied. The work folders of runs that are gone (killed, or ended
-// by a signal while a detector ran: run_child_io) are removed first; those of runs still going stay.
-std::filesystem::path make_external_work_dir(const std::string& tag);
+// A work folder for external detectors, TMP/tagbench-external-OWNER-N under the system's temporary
+// folder (N counts this process's folders), made empty and removed with what it holds when this
+// ends. The work folders of runs that are gone (killed, or ended by a signal while a detector ran:
+// run_child_io) are removed first; those of runs still going stay.
+class ExternalWorkDir {
+ public:
+  ExternalWorkDir();
+  ~ExternalWorkDir();
+  ExternalWorkDir(const ExternalWorkDir&) = delete;
+  ExternalWorkDir& operator=(const ExternalWorkDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 }  // namespace tagbench::bench

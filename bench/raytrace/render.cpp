@@ -331,7 +331,11 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
 
     // One scene for every missing frame, numbered 1..M in job order.
     std::string keys;
-    for (const Job& j : jobs) keys += j.key;
+    std::vector<std::string> job_keys;
+    for (const Job& j : jobs) {
+      keys += j.key;
+      job_keys.push_back(j.key);
+    }
     // The owner first, so that a later run can clear this batch's files should this process be killed;
     // the keys, so that it can keep the frames this batch finished (render_batches.hpp).
     const std::string batch = owner_tag() + "-" + key_of(keys).substr(0, 12);
@@ -341,8 +345,6 @@ RenderReport render_frames(const std::vector<FramePose>& frames, const std::stri
     std::string scene = scene_template;
     scene.replace(scene.find(kPlaceholder), std::string(kPlaceholder).size(), cases);
     const std::string scene_file = "batch-" + batch + ".pov";
-    std::vector<std::string> job_keys;
-    for (const Job& j : jobs) job_keys.push_back(j.key);
     write_batch_keys(dir, batch, job_keys);
     write_file_atomic(dir / scene_file, scene);
     const int total = static_cast<int>(jobs.size());

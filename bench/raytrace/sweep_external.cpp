@@ -1,49 +1,22 @@
 // The sweep's external detectors (sweep_external.hpp).
 #include "raytrace/sweep_external.hpp"
 
-#include <atomic>
 #include <cstdio>
 #include <map>
 #include <stdexcept>
 #include <string>
-#include <string_view>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "tools/atomic_file.hpp"
-
 namespace tagbench::bench::sweep_detail {
-
-namespace {
-
-// A folder of our own under the system's temporary folder, removed with what it holds.
-class WorkDir {
- public:
-  WorkDir() {
-    static std::atomic<int> counter{0};
-    path_ = make_external_work_dir(std::to_string(counter++));
-  }
-  ~WorkDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  WorkDir(const WorkDir&) = delete;
-  WorkDir& operator=(const WorkDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
-
-}  // namespace
 
 std::vector<std::vector<DetectorOutput>> run_external_detectors(const SweepSettings& s,
                                                                 const std::vector<SweepFrame>& frames,
                                                                 const RenderReport& report) {
   std::vector<std::vector<DetectorOutput>> out(s.external.size(), std::vector<DetectorOutput>(frames.size()));
   if (s.external.empty()) return out;
-  const WorkDir dir;
+  const ExternalWorkDir dir;
   // The images, each distinct one written once (an unmodified frame shares its render's image).
   std::vector<std::string> images;
   std::vector<std::size_t> image_of(frames.size(), 0);
