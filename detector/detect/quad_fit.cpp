@@ -63,7 +63,25 @@ void corner_candidates(QuadFitScratch& s, int max_maxima) {
   const int k = std::min(20, n / 12);  // kernel half width, about half the points of a short side
   s.err.resize(static_cast<std::size_t>(n));
   s.smooth.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i)  // (i - k) mod n and (i + k) mod n without a division (k < n)
+  // Where the run i-k..i+k neither wraps nor starts at 0 (i - k >= 1, i + k < n) its moments are one
+  // difference of the cumulative sums: that stretch (most points) inlined, every operation as in
+  // fit_run and in the same order, so the errors are the same numbers.
+  const int lo = std::min(n, k + 1), hi = std::max(lo, n - k);
+  for (int i = 0; i < lo; ++i)  // (i - k) mod n and (i + k) mod n without a division (k < n)
+    fit_run(s.cum, i >= k ? i - k : i + n - k, i + k < n ? i + k : i + k - n, nullptr, &s.err[static_cast<std::size_t>(i)]);
+  const Moments* cum = s.cum.data();
+  const double count = 2 * k + 1;
+  for (int i = lo; i < hi; ++i) {
+    const Moments& a = cum[i + k];
+    const Moments& b = cum[i - k - 1];
+    const double mx = a.mx - b.mx, my = a.my - b.my, mxx = a.mxx - b.mxx, mxy = a.mxy - b.mxy, myy = a.myy - b.myy,
+                 mw = a.w - b.w;
+    const double ex = mx / mw, ey = my / mw;
+    const double cxx = mxx / mw - ex * ex, cxy = mxy / mw - ex * ey, cyy = myy / mw - ey * ey;
+    const double root = std::sqrt((cxx - cyy) * (cxx - cyy) + 4 * cxy * cxy);
+    s.err[static_cast<std::size_t>(i)] = count * std::max(0.0, 0.5 * (cxx + cyy - root));
+  }
+  for (int i = hi; i < n; ++i)
     fit_run(s.cum, i >= k ? i - k : i + n - k, i + k < n ? i + k : i + k - n, nullptr, &s.err[static_cast<std::size_t>(i)]);
   // Smooth with a 7-tap Gaussian (sigma 1 point), cyclically, so noise gives fewer false maxima.
   static constexpr double g[7] = {0.011109, 0.135335, 0.606531, 1.0, 0.606531, 0.135335, 0.011109};
