@@ -25,6 +25,35 @@ void widen_cyclic(const std::vector<float>& envelope, std::vector<float>& widene
 
 }  // namespace
 
+namespace {
+// The bin by the formula itself (angle_bin's rare path: kept out of line so angle_bin inlines).
+[[gnu::noinline, gnu::cold]] int angle_bin_exact(float dx, float dy, int bins, float per_radian) {
+  const float a = std::atan2(dy, dx) + std::numbers::pi_v<float>;  // [0, 2 pi]
+  return std::min(bins - 1, static_cast<int>(a * per_radian));
+}
+}  // namespace
+
+int angle_bin(float dx, float dy, int bins, float per_radian) {
+  const double ax = std::abs(static_cast<double>(dx)), ay = std::abs(static_cast<double>(dy));
+  // Also every NaN and infinity: ax and ay are then not both in (0, 1e30).
+  if (!(ax > 0 && ay > 0 && ax < 1e30 && ay < 1e30)) return angle_bin_exact(dx, dy, bins, per_radian);
+  // atan on [0, 1] within 2e-8 rad (Abramowitz and Stegun 4.4.49), then the quadrant. The float
+  // sum and product of the exact bin add under 3e-7 rad and 4e-6 of a bin; a value within 1e-3 of
+  // a bin's edge is left to the exact formula, so the bin is always the same.
+  const bool steep = ay > ax;
+  const double z = steep ? ax / ay : ay / ax, z2 = z * z;
+  double p = z * (1 + z2 * (-0.3333314528 + z2 * (0.1999355085 + z2 * (-0.1420889944 + z2 * (0.1065626393 +
+                 z2 * (-0.0752896400 + z2 * (0.0429096138 + z2 * (-0.0161657367 + z2 * 0.0028662257))))))));
+  if (steep) p = 0.5 * std::numbers::pi - p;
+  if (dx < 0) p = std::numbers::pi - p;
+  if (dy < 0) p = -p;
+  const double t = (p + static_cast<double>(std::numbers::pi_v<float>)) * static_cast<double>(per_radian);
+  constexpr double kMargin = 1e-3;
+  const double lo = t - kMargin, hi = t + kMargin;  // truncation is the floor from here: lo >= 0
+  if (!(lo >= 0) || static_cast<int>(lo) != static_cast<int>(hi)) return angle_bin_exact(dx, dy, bins, per_radian);
+  return std::min(bins - 1, static_cast<int>(lo));
+}
+
 void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutlineOptions& opt,
                           OuterOutlineScratch& s, std::vector<BoundaryPoint>& out, std::size_t min_points) {
   out.clear();
@@ -42,8 +71,7 @@ void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutli
   s.envelope.assign(static_cast<std::size_t>(nb), 0.0f);
   for (std::size_t i = 0; i < n; ++i) {
     const float dx = static_cast<float>(s.side[i].x2) - cx, dy = static_cast<float>(s.side[i].y2) - cy;
-    const float a = std::atan2(dy, dx) + std::numbers::pi_v<float>;  // [0, 2 pi]
-    const int b = std::min(nb - 1, static_cast<int>(a * per_radian));
+    const int b = angle_bin(dx, dy, nb, per_radian);
     s.radius[i] = std::sqrt(dx * dx + dy * dy);
     s.bin[i] = b;
     float& e = s.envelope[static_cast<std::size_t>(b)];

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 
 #include "detect/outer_outline.hpp"
 #include "detect/quad_fit.hpp"
@@ -37,6 +39,38 @@ void expect_square_30_50(const Corners& q) {
 // A square's edge (20 px, outward steps), the payload's inner edges at 3/4 of the way out (outward
 // steps too, as where a leaking white ring meets the border's inside) and a ring's outer edge (inward
 // steps): only the square's edge is kept, most of it.
+// angle_bin is the atan2f formula's bin, exactly: on the half-pixel lattice the outlines use (the
+// centre on or between lattice points), on random offsets, on the axes and at the centre, for the
+// default 96 bins and others. The test counts the lattice points that sit within 1e-3 of a bin's edge
+// (where the polynomial alone could be wrong), so it fails if none is ever tried.
+TEST(OuterOutline, AngleBinIsTheAtan2fBin) {
+  const auto reference = [](float dx, float dy, int bins, float per_radian) {
+    const float a = std::atan2(dy, dx) + std::numbers::pi_v<float>;
+    return std::min(bins - 1, static_cast<int>(a * per_radian));
+  };
+  int near_edge = 0;
+  for (const int bins : {8, 96, 97, 1024}) {
+    const float per_radian = static_cast<float>(bins) / (2 * std::numbers::pi_v<float>);
+    for (const float off : {0.0f, 0.5f, 0.25f})
+      for (int y = -130; y <= 130; ++y)
+        for (int x = -130; x <= 130; ++x) {
+          const float dx = static_cast<float>(x) - off, dy = static_cast<float>(y) - off;
+          ASSERT_EQ(angle_bin(dx, dy, bins, per_radian), reference(dx, dy, bins, per_radian)) << dx << ", " << dy;
+          const double t = (std::atan2(static_cast<double>(dy), static_cast<double>(dx)) + std::numbers::pi) * bins /
+                           (2 * std::numbers::pi);
+          near_edge += std::abs(t - std::round(t)) < 1e-3;
+        }
+    std::uint64_t r = 12345;  // a fixed LCG: random-looking offsets, the same every run
+    for (int i = 0; i < 200000; ++i) {
+      r = r * 6364136223846793005ULL + 1442695040888963407ULL;
+      const float dx = static_cast<float>(static_cast<int>(r >> 40) % 20001 - 10000) / 37.0f;
+      const float dy = static_cast<float>(static_cast<int>((r >> 16) & 0xFFFFFF) % 20001 - 10000) / 41.0f;
+      ASSERT_EQ(angle_bin(dx, dy, bins, per_radian), reference(dx, dy, bins, per_radian)) << dx << ", " << dy;
+    }
+  }
+  EXPECT_GT(near_edge, 100);
+}
+
 TEST(OuterOutline, KeepsTheSquaresEdgeAndDropsInnerEdgesAndTheRingsOuterEdge) {
   std::vector<BoundaryPoint> group;
   outline(group, 80, 20, 1);
