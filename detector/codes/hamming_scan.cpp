@@ -119,6 +119,7 @@ struct Impl {
   std::ptrdiff_t (*first)(const Code*, std::size_t, Code, int) = first_within_scalar;
   NearestWord (*nearest)(const Code*, std::size_t, Code, int) = nearest_scalar;
   const char* name = "scalar";
+  bool popcnt = false;  // the POPCNT instruction (ChunkIndex's bucket scans)
   Impl() {
 #ifdef TAGBENCH_HAVE_AVX512_PATH
     __builtin_cpu_init();
@@ -126,6 +127,7 @@ struct Impl {
       first = first_within_popcnt;
       nearest = nearest_popcnt;
       name = "popcnt";
+      popcnt = true;
     }
     if (cpu_has_avx512_popcnt()) {
       first = first_within_avx512;
@@ -154,6 +156,78 @@ NearestWord nearest_within(std::span<const Code> words, Code v, int max_distance
 }
 
 const char* hamming_scan_impl() { return impl().name; }
+
+ChunkIndex::ChunkIndex(std::span<const Code> words, int bits, int chunks) {
+  // Chunks of more than 20 bits would need a million buckets each: no index (chunks() 0).
+  if (bits < 1 || bits > 64 || chunks < 1 || chunks > bits || (bits + chunks - 1) / chunks > 20) return;
+  const auto c = static_cast<std::size_t>(chunks);
+  lo_.resize(c);
+  width_.resize(c);
+  offsets_.resize(c);
+  entries_.resize(c);
+  for (std::size_t j = 0, at = 0; j < c; ++j) {  // widths differ by at most one bit
+    const std::size_t wd = (static_cast<std::size_t>(bits) + j) / c;
+    lo_[j] = static_cast<std::uint8_t>(at);
+    width_[j] = static_cast<std::uint8_t>(wd);
+    at += wd;
+    const std::size_t nb = std::size_t{1} << wd;
+    const Code mask = (Code{1} << wd) - 1;
+    auto& off = offsets_[j];
+    off.assign(nb + 1, 0);
+    for (const Code w : words) ++off[((w >> lo_[j]) & mask) + 1];
+    for (std::size_t b = 0; b < nb; ++b) off[b + 1] += off[b];
+    std::vector<std::uint32_t> fill(off.begin(), off.end() - 1);
+    entries_[j].resize(words.size());
+    for (std::size_t i = 0; i < words.size(); ++i)  // ascending positions within each bucket
+      entries_[j][fill[(words[i] >> lo_[j]) & mask]++] = static_cast<std::uint32_t>(i);
+  }
+}
+
+namespace {
+// One bucket's entries compared with v; best keeps the lowest position among the nearest.
+inline void scan_bucket(const Code* words, const std::uint32_t* e, const std::uint32_t* end, Code v, int max_distance,
+                        NearestWord& best) {
+  for (; e != end; ++e) {
+    const int d = std::popcount(v ^ words[*e]);
+    if (d <= max_distance && (d < best.distance || (d == best.distance && *e < best.index))) {
+      best.distance = d;
+      best.index = static_cast<std::ptrdiff_t>(*e);
+    }
+  }
+}
+#ifdef TAGBENCH_HAVE_AVX512_PATH
+__attribute__((target("popcnt"))) void scan_bucket_popcnt(const Code* words, const std::uint32_t* e,
+                                                          const std::uint32_t* end, Code v, int max_distance,
+                                                          NearestWord& best) {
+  for (; e != end; ++e) {
+    const int d = __builtin_popcountll(v ^ words[*e]);
+    if (d <= max_distance && (d < best.distance || (d == best.distance && *e < best.index))) {
+      best.distance = d;
+      best.index = static_cast<std::ptrdiff_t>(*e);
+    }
+  }
+}
+#endif
+}  // namespace
+
+NearestWord ChunkIndex::nearest_within(std::span<const Code> words, Code v, int max_distance) const {
+  NearestWord best;
+  if (max_distance < 0) return best;
+  if (max_distance >= chunks()) return tagbench::nearest_within(words, v, max_distance);  // no guarantee: all words
+  for (std::size_t j = 0; j < lo_.size(); ++j) {
+    const Code key = (v >> lo_[j]) & ((Code{1} << width_[j]) - 1);
+    const std::uint32_t* e = entries_[j].data();
+    const std::uint32_t *first = e + offsets_[j][key], *last = e + offsets_[j][key + 1];
+#ifdef TAGBENCH_HAVE_AVX512_PATH
+    if (impl().popcnt) {
+      scan_bucket_popcnt(words.data(), first, last, v, max_distance, best);
+      continue;
+    }
+#endif
+    scan_bucket(words.data(), first, last, v, max_distance, best);
+  }
+  return best;
+}
 
 PrefixBuckets::PrefixBuckets(std::span<const Code> words, int bits, std::size_t target) {
   while (t_ < 14 && t_ < bits && (words.size() >> (t_ + 1)) >= target) ++t_;

@@ -46,6 +46,27 @@ class PrefixBuckets {
   std::vector<std::uint8_t> mask_pop_;
 };
 
+// Words indexed by c chunks of their bits (multi-index hashing): a word within m < c bits of v equals
+// v exactly on at least one chunk (c chunks cannot all hold one of m differing bits), so only the
+// words sharing one of v's c chunk values are compared. For a 36-bit family of 2348 words and m = 3
+// (4 chunks of 9 bits) that is about 18 words instead of all of them.
+class ChunkIndex {
+ public:
+  ChunkIndex() = default;
+  // bits: word width (1..64); chunks: 1..bits, at most 20 bits a chunk (else no index: chunks() 0).
+  // The index keeps the words' positions, not the words.
+  ChunkIndex(std::span<const Code> words, int bits, int chunks);
+  int chunks() const { return static_cast<int>(lo_.size()); }
+  // nearest_within(words, v, max_distance) exactly (the same index and distance), for the words the
+  // index was built from; max_distance >= chunks() scans every word.
+  NearestWord nearest_within(std::span<const Code> words, Code v, int max_distance) const;
+
+ private:
+  std::vector<std::uint8_t> lo_, width_;                  // chunk j: bits [lo_[j], lo_[j] + width_[j])
+  std::vector<std::vector<std::uint32_t>> offsets_;       // per chunk: bucket b is entries [b], [b + 1])
+  std::vector<std::vector<std::uint32_t>> entries_;       // per chunk: word positions, ascending per bucket
+};
+
 // Name of the scan implementation in use ("avx512-vpopcntdq" or "scalar"), for benchmark records.
 const char* hamming_scan_impl();
 

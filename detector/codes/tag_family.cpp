@@ -50,6 +50,10 @@ TagFamily::TagFamily(FamilyInfo info, std::vector<Code> codes, bool check_distan
     }
   }
   buckets_ = PrefixBuckets(words_, info_.bits);
+  if (words_.size() >= 256) {
+    chunked_.resize(9);
+    for (int c = 3; c <= 8 && c <= info_.bits; ++c) chunked_[static_cast<std::size_t>(c)] = ChunkIndex(words_, info_.bits, c);
+  }
   {
     std::vector<Code> sorted = codes_;
     std::sort(sorted.begin(), sorted.end());
@@ -71,11 +75,30 @@ TagFamily::TagFamily(FamilyInfo info, std::vector<Code> codes, bool check_distan
   }
 }
 
+namespace {
+// The index for a search within m bits (c = max(3, m + 1) chunks), if the family has one.
+const ChunkIndex* chunk_index_for(const std::vector<ChunkIndex>& chunked, int m) {
+  const auto c = static_cast<std::size_t>(std::max(3, m + 1));
+  return c < chunked.size() && chunked[c].chunks() > 0 ? &chunked[c] : nullptr;
+}
+}  // namespace
+
+NearestWord TagFamily::nearest_word(Code observed, int max_distance) const {
+  observed &= low_mask(info_.bits);
+  if (const ChunkIndex* ix = chunk_index_for(chunked_, max_distance)) return ix->nearest_within(words_, observed, max_distance);
+  return nearest_within(words_, observed, max_distance);
+}
+
 std::optional<DecodeResult> TagFamily::decode(Code observed, int max_corrected) const {
   observed &= low_mask(info_.bits);
   if (const auto it = exact_.find(observed); it != exact_.end())
     return DecodeResult{static_cast<int>(it->second / 4), 0, static_cast<int>(it->second % 4)};
   if (max_corrected <= 0) return std::nullopt;
+  if (const ChunkIndex* ix = chunk_index_for(chunked_, max_corrected)) {
+    const NearestWord n = ix->nearest_within(words_, observed, max_corrected);
+    if (n.index < 0) return std::nullopt;
+    return DecodeResult{static_cast<int>(n.index / 4), n.distance, static_cast<int>(n.index % 4)};
+  }
   // With max_corrected <= (h-1)/2 at most one word is within reach, so the first hit is the answer.
   if (2 * max_corrected < info_.min_hamming) {
     const auto w = buckets_.first_word_within(observed, max_corrected);

@@ -56,6 +56,9 @@ class TagFamily {
   // All four rotations of every code: entry 4*id + r is rotate(code[id], d, r).
   std::span<const Code> rotated_words() const { return words_; }
 
+  // nearest_within(rotated_words(), observed, max_distance), through the chunk index when one fits.
+  NearestWord nearest_word(Code observed, int max_distance) const;
+
  private:
   FamilyInfo info_;
   int d_ = 0;
@@ -63,6 +66,9 @@ class TagFamily {
   std::vector<Code> words_;
   std::unordered_map<Code, std::uint32_t> exact_;  // word -> 4*id + r, for the zero-error fast path
   PrefixBuckets buckets_;                          // words_ bucketed for the few-errors path
+  // chunked_[c]: words_ indexed by c chunks (c = 3..8; families of 256 words or more): a search within
+  // m bits uses c = max(3, m + 1).
+  std::vector<ChunkIndex> chunked_;
 };
 
 // The widest payload (d) among `families`; 0 for none. The quad stages that serve every family

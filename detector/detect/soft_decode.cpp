@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 
-#include "codes/hamming_scan.hpp"
 
 namespace tagbench {
 
@@ -62,7 +61,7 @@ std::optional<DecodeResult> soft_decode(const TagFamily& family, const PayloadRe
   // that near (most refused quads: a random word is about 8 bits from the nearest 36h11 word) is out.
   Code hard = 0;
   for (const float v : reading.confidence) hard = (hard << 1) | (v > 0 ? 1u : 0u);
-  if (first_within(family.rotated_words(), hard, opt.max_bit_errors) < 0) return std::nullopt;  // POPCNT scan
+  if (family.nearest_word(hard, opt.max_bit_errors).index < 0) return std::nullopt;  // the chunk index
   const SoftMatch m = soft_match(family, reading.confidence, opt);
   if (m.best < 0 || m.second < 0 || m.best_bit_errors > opt.max_bit_errors || !(m.best_distance <= opt.max_distance) ||
       !(m.second_distance - m.best_distance >= opt.min_gap))

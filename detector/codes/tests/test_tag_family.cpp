@@ -82,6 +82,34 @@ TEST(TagFamily, BeyondHalfTheDistanceTakesTheNearest) {
   }
 }
 
+// 36h11 (2348 words: decoded through the chunk index) at every limit up to 7 bits, near and beyond
+// half its distance: the nearest word, the lowest id and rotation among ties, as a scan of all words.
+TEST(TagFamily, DecodesAsAScanOfEveryWord) {
+  const TagFamily& f = builtin_family("36h11");
+  const auto words = f.rotated_words();
+  std::mt19937_64 rng(17);
+  int decoded = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    Code w = words[rng() % words.size()];
+    const int flips = static_cast<int>(rng() % 9);
+    for (int e = 0; e < flips; ++e) w ^= Code{1} << (rng() % 36);
+    const int k = 1 + static_cast<int>(rng() % 7);
+    int best = 99;
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < words.size(); ++i)
+      if (const int d = hamming(w, words[i]); d < best) best = d, at = i;
+    const auto dec = f.decode(w, k);
+    ASSERT_EQ(dec.has_value(), best <= k) << trial;
+    if (!dec) continue;
+    ++decoded;
+    EXPECT_EQ(dec->hamming, best);
+    EXPECT_EQ(dec->id, static_cast<int>(at / 4));
+    EXPECT_EQ(dec->rotation, static_cast<int>(at % 4));
+    EXPECT_EQ(f.nearest_word(w, k).index, static_cast<std::ptrdiff_t>(at));
+  }
+  EXPECT_GT(decoded, 1000);
+}
+
 TEST(TagFamily, RejectsBadFamilies) {
   EXPECT_THROW(TagFamily(info("x", 20, 3), {1, 2}), std::invalid_argument);       // bits not a square
   EXPECT_THROW(TagFamily(info("x", 81, 3), {1, 2}), std::invalid_argument);       // over 64
