@@ -157,6 +157,8 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "dq_ring") o.dark_outlines.ring_check = x != 0;
     else if (k == "dq_light") o.dark_outlines.by_light = x != 0;
     else if (k == "dq_outline") o.dark_outlines.outline_only = x != 0;
+    else if (k == "dq_check") o.dark_outlines.check_before_refining = x != 0;
+    else if (k == "dq_slack") o.dark_outlines.slack_sides = static_cast<int>(x);
     else if (k == "rchk") o.threshold_quads.refine_check.enabled = x != 0;
     else if (k == "coarse") o.coarse_pass.enabled = x != 0;
     else if (k == "coarse_contrast") o.coarse_pass.min_contrast = static_cast<float>(x);

@@ -5,13 +5,15 @@
 #include <string>
 
 #include "detect/line_quads.hpp"  // centre_covered
+#include "detect/payload_decode.hpp"  // border_contrast_plausible
 
 namespace tagbench {
 
 std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Components& components, const ImageF& img,
                                      std::span<const Corners> covered, const QuadFitOptions& fit,
                                      const EdgeRefineOptions& refine, const DarkOutlineOptions& opt,
-                                     QuadFitScratch& fit_scratch, DarkOutlineScratch& s) {
+                                     QuadFitScratch& fit_scratch, DarkOutlineScratch& s,
+                                     const BorderPrecheck& precheck) {
   std::vector<Quad> out;
   if (!opt.enabled) return out;
   if (components.width != img.width || components.height != img.height)
@@ -68,6 +70,15 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
   }
   for (const Quad& q : s.fitted) {
     if (centre_covered(q, covered)) continue;
+    // Refused by the pre-filter: left as fitted, for the decoder's pre-filter to refuse by the same
+    // test (the quad stays in the trace, where --explain finds it), as the threshold quads' refine_check.
+    if (opt.check_before_refining &&
+        !border_contrast_plausible(img, q.corners, precheck.payload_width, precheck.min_contrast) &&
+        !(opt.slack_sides > 0 && border_contrast_plausible_with_slack(img, q.corners, precheck.payload_width,
+                                                                       precheck.min_contrast, opt.slack_sides))) {
+      out.push_back(q);
+      continue;
+    }
     if (const auto c = refine_quad_edges(img, q.corners, refine, s.refine)) {
       out.push_back(q);
       out.back().corners = *c;

@@ -217,9 +217,12 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   };
   if (opt_.dark_outlines.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution) {
     auto& tq = workspace.impl().threshold_quads;  // dark_outlines.hpp: a dark component's groups joined
+    DarkOutlineOptions dark = opt_.dark_outlines;  // the pre-filter before refining only where the decoder has it
+    dark.check_before_refining = dark.check_before_refining && opt_.payload.quick_reject;
     decode_more(dark_outline_quads(tq.pass.groups, tq.pass.components, gray, covered(), opt_.threshold_quads.fit,
-                                   opt_.threshold_quads.refine, opt_.dark_outlines, tq.fit,
-                                   workspace.impl().dark_outlines));
+                                   opt_.threshold_quads.refine, dark, tq.fit,
+                                   workspace.impl().dark_outlines,
+                                   BorderPrecheck{max_payload_width(families_), opt_.payload.min_contrast}));
   }
   if (opt_.coarse_pass.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution)
     decode_more(coarse_pass_quads(gray, opt_.threshold_quads, covered(), opt_.coarse_pass,  // coarse_pass.hpp

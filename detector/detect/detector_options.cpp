@@ -290,6 +290,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_above("dark_outlines.max_size_px", dark_outlines.max_size_px, 0);
   int_within("dark_outlines.min_groups", dark_outlines.min_groups, 2, 1 << 20);
   int_within("dark_outlines.max_groups", dark_outlines.max_groups, dark_outlines.min_groups, 1 << 20);
+  int_within("dark_outlines.slack_sides", dark_outlines.slack_sides, 0, 4);
   finite_above("line_quads.max_side_px", line_quads.max_side_px, 0);
   finite_at_least("line_quads.min_side_px", line_quads.min_side_px, 0);
   finite_above("line_quads.scale", line_quads.scale, 0);

@@ -6,6 +6,7 @@
 #include "detect/components.hpp"
 #include "detect/dark_outlines.hpp"
 #include "detect/detector.hpp"
+#include "detect/payload_decode.hpp"
 #include "detect/threshold.hpp"
 #include "synthetic_tag.hpp"
 
@@ -19,13 +20,19 @@ namespace {
 // middle of its top and bottom sides by dark bridges 3 px wide: the ring falls into two light
 // components, so the square's outline is split between two boundary groups (each also holding half
 // of the card's inner edge), while the square, the bridges and the card are one dark component.
-ImageF broken_ring_image() {
+// The bridges are darker than the square (0.05). off_middle: they cut the ring 6 px left of the
+// sides' middles, so the border pre-filter, which samples each side's middle, sees the ring light
+// outside all four sides.
+ImageF broken_ring_image(bool off_middle = false) {
   ImageF img(80, 80, 0.2f);
+  const double bx = off_middle ? 34.0 : 40.0;
   for (int y = 0; y < 80; ++y)
     for (int x = 0; x < 80; ++x) {
       const double dx = std::abs(x - 40.0), dy = std::abs(y - 40.0), d = std::max(dx, dy);
+      const bool bridge = std::abs(x - bx) <= 1 && dy > 12;
       if (d <= 12) img.at(x, y) = 0.1f;
-      else if (d <= 15 && !(dx <= 1 && dy > 12)) img.at(x, y) = 0.8f;
+      else if (d <= 15 && !bridge) img.at(x, y) = 0.8f;
+      else if (d <= 15) img.at(x, y) = 0.05f;
     }
   return img;
 }
@@ -78,6 +85,44 @@ TEST(DarkOutlines, JoinsTheGroupsOfABrokenRing) {
                                                o.threshold_quads.refine, on, fs, s)));
 }
 
+// check_before_refining: a quad the border pre-filter refuses (the bridges at the middles of two
+// sides, darker outside than in: only two sides pass) is left as fitted, not refined; one it admits
+// (the bridges off the middles), or its test with slack admits, is refined as without the check.
+TEST(DarkOutlines, ThePreFilterBeforeRefiningLeavesRefusedQuadsAsFitted) {
+  const DetectorOptions o;
+  const BorderPrecheck pre{6, 0.02};
+  const DarkOutlineOptions plain{.enabled = true}, checked{.enabled = true, .check_before_refining = true},
+      slack{.enabled = true, .check_before_refining = true, .slack_sides = 3};
+  const auto quads = [&](const ImageF& img, const DarkOutlineOptions& opt) {
+    Pass p(img);
+    QuadFitScratch fs;
+    DarkOutlineScratch s;
+    return dark_outline_quads(p.groups, p.comp, img, {}, o.threshold_quads.fit, o.threshold_quads.refine, opt, fs, s,
+                              pre);
+  };
+  const ImageF two_cuts = broken_ring_image();
+  const auto refined = quads(two_cuts, plain), fitted = quads(two_cuts, checked);
+  ASSERT_TRUE(finds_square(refined));
+  ASSERT_EQ(fitted.size(), refined.size());
+  double moved = 0;  // the refinement moved the corners; the checked run did not
+  for (std::size_t i = 0; i < fitted.size(); ++i)
+    for (std::size_t k = 0; k < 4; ++k) moved = std::max(moved, (fitted[i].corners[k] - refined[i].corners[k]).norm());
+  EXPECT_GT(moved, 1e-6);
+  EXPECT_FALSE(border_contrast_plausible(two_cuts, refined.front().corners, 6, 0.02));
+  // The slack test reaches past the 3 px ring to the card, lighter than the square: it admits the
+  // quad, which is then refined as without the check.
+  ASSERT_TRUE(border_contrast_plausible_with_slack(two_cuts, fitted.front().corners, 6, 0.02, 3));
+  const auto with_slack = quads(two_cuts, slack);
+  ASSERT_EQ(with_slack.size(), refined.size());
+  for (std::size_t i = 0; i < refined.size(); ++i) EXPECT_EQ(with_slack[i].corners, refined[i].corners);
+  const ImageF off = broken_ring_image(true);
+  EXPECT_TRUE(border_contrast_plausible(off, synth::square_tag_corners(40, 40, 25, 0), 6, 0.02));
+  const auto a = quads(off, plain), b = quads(off, checked);
+  ASSERT_TRUE(finds_square(a));
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].corners, b[i].corners);
+}
+
 TEST(DarkOutlines, ComponentsOfAnotherImageAreRefused) {
   const ImageF img = broken_ring_image();
   Pass p(img);
@@ -91,6 +136,8 @@ TEST(DarkOutlines, ComponentsOfAnotherImageAreRefused) {
 // The default and thorough profiles join the outlines; the paper's does not.
 TEST(DarkOutlines, InTheDefaultAndThoroughProfilesNotThePapers) {
   EXPECT_TRUE(DetectorOptions{}.dark_outlines.enabled);
+  EXPECT_TRUE(DetectorOptions{}.dark_outlines.check_before_refining);
+  EXPECT_EQ(DetectorOptions{}.dark_outlines.slack_sides, 3);
   EXPECT_FALSE(DetectorOptions::paper().dark_outlines.enabled);
   EXPECT_TRUE(DetectorOptions::thorough().dark_outlines.enabled);
 }
