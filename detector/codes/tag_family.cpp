@@ -52,7 +52,11 @@ TagFamily::TagFamily(FamilyInfo info, std::vector<Code> codes, bool check_distan
   buckets_ = PrefixBuckets(words_, info_.bits);
   if (words_.size() >= 256) {
     chunked_.resize(9);
-    for (int c = 3; c <= 8 && c <= info_.bits; ++c) chunked_[static_cast<std::size_t>(c)] = ChunkIndex(words_, info_.bits, c);
+    // Chunks under 6 bits leave too many words per bucket: for 36h11 (2348 words) a search within 3
+    // bits took 0.06 us with 9-bit chunks, 0.19 us with 6-bit ones, 0.33 us with 5 (as the scan of
+    // every word) and 0.55 us with 4 (a micro-benchmark, 100,000 words 9 bit flips from a code).
+    for (int c = 3; c <= 8 && info_.bits / c >= 6; ++c)
+      chunked_[static_cast<std::size_t>(c)] = ChunkIndex(words_, info_.bits, c);
   }
   {
     std::vector<Code> sorted = codes_;

@@ -66,8 +66,8 @@ class TagFamily {
   std::vector<Code> words_;
   std::unordered_map<Code, std::uint32_t> exact_;  // word -> 4*id + r, for the zero-error fast path
   PrefixBuckets buckets_;                          // words_ bucketed for the few-errors path
-  // chunked_[c]: words_ indexed by c chunks (c = 3..8; families of 256 words or more): a search within
-  // m bits uses c = max(3, m + 1).
+  // chunked_[c]: words_ indexed by c chunks (c = 3..8, chunks of 6 bits or more; families of 256
+  // words or more): a search within m bits uses c = max(3, m + 1), else the scan of every word.
   std::vector<ChunkIndex> chunked_;
 };
 
