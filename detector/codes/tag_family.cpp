@@ -82,6 +82,7 @@ TagFamily::TagFamily(FamilyInfo info, std::vector<Code> codes, bool check_distan
 namespace {
 // The index for a search within m bits (c = max(3, m + 1) chunks), if the family has one.
 const ChunkIndex* chunk_index_for(const std::vector<ChunkIndex>& chunked, int m) {
+  if (m < 0 || m >= 8) return nullptr;  // no index beyond 8 chunks (and no m + 1 overflow)
   const auto c = static_cast<std::size_t>(std::max(3, m + 1));
   return c < chunked.size() && chunked[c].chunks() > 0 ? &chunked[c] : nullptr;
 }

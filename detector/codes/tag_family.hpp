@@ -56,7 +56,8 @@ class TagFamily {
   // All four rotations of every code: entry 4*id + r is rotate(code[id], d, r).
   std::span<const Code> rotated_words() const { return words_; }
 
-  // nearest_within(rotated_words(), observed, max_distance), through the chunk index when one fits.
+  // nearest_within(rotated_words(), observed, max_distance) for observed's low bits() bits (the rest
+  // ignored, as decode does), through the chunk index when one fits.
   NearestWord nearest_word(Code observed, int max_distance) const;
 
  private:

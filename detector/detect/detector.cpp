@@ -217,8 +217,10 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   };
   if (opt_.dark_outlines.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution) {
     auto& tq = workspace.impl().threshold_quads;  // dark_outlines.hpp: a dark component's groups joined
-    DarkOutlineOptions dark = opt_.dark_outlines;  // the pre-filter before refining only where the decoder has it
-    dark.check_before_refining = dark.check_before_refining && opt_.payload.quick_reject;
+    // The pre-filter before refining only where the decoder asks the same test of the same image (as
+    // refine_check: no blur before decoding).
+    DarkOutlineOptions dark = opt_.dark_outlines;
+    dark.check_before_refining = dark.check_before_refining && opt_.payload.quick_reject && opt_.decode_sigma == 0;
     decode_more(dark_outline_quads(tq.pass.groups, tq.pass.components, gray, covered(), opt_.threshold_quads.fit,
                                    opt_.threshold_quads.refine, dark, tq.fit,
                                    workspace.impl().dark_outlines,

@@ -345,6 +345,7 @@ struct DetectorOptions {
   //   ring_quads              min_size_px, min_hole finite >= 0; max_size_px, max_fill finite > 0;
   //   coarse_pass             min_contrast [0, 1]; min_tag_px finite >= 0;
   //   dark_outlines           min_size_px finite >= 0, max_size_px finite > 0; 2 <= min_groups <= max_groups;
+  //                           slack_sides 0..4;
   //   camera                  fx, fy in [0.01, 1e8] px, cx, cy in [0, 1e8] px; tag_size in [1e-6, 1e6] m
   //                           with a camera, finite >= 0 without; distortion only with a camera, each
   //                           coefficient in [-1e4, 1e4];

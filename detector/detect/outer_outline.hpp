@@ -85,14 +85,14 @@ struct OuterOutlineScratch {
   std::vector<float> inner_envelope, inner_widened;  // inner_outline_points
 };
 
-// The outward, outermost points of `group` into `out` (cleared first); out may be empty. Empty too
-// when fewer than `min_points` points face outward (the outline, a subset of them, could not give a
-// quad: most groups of a textured ground end here, before the angles and distances are computed).
 // The angular bin of (dx, dy) about the centre: exactly min(bins - 1, int((atan2f(dy, dx) + pi_f) x
 // per_radian)) in float arithmetic (per_radian = bins / (2 pi_f), as outer_outline_points computes it),
 // mostly without the atan2f call (a polynomial, the call only within 1e-3 of a bin's edge).
 int angle_bin(float dx, float dy, int bins, float per_radian);
 
+// The outward, outermost points of `group` into `out` (cleared first); out may be empty. Empty too
+// when fewer than `min_points` points face outward (the outline, a subset of them, could not give a
+// quad: most groups of a textured ground end here, before the angles and distances are computed).
 void outer_outline_points(std::span<const BoundaryPoint> group, const OuterOutlineOptions& opt,
                           OuterOutlineScratch& scratch, std::vector<BoundaryPoint>& out, std::size_t min_points = 0);
 

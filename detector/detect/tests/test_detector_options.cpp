@@ -84,6 +84,7 @@ TEST(DetectorOptions, EveryFieldIsChecked) {
       {"dark_outlines.max_size_px", [](DetectorOptions& o) { o.dark_outlines.max_size_px = 0; }, "0"},
       {"dark_outlines.min_groups", [](DetectorOptions& o) { o.dark_outlines.min_groups = 1; }, "1"},
       {"dark_outlines.max_groups", [](DetectorOptions& o) { o.dark_outlines.max_groups = 1; }, "1"},
+      {"dark_outlines.slack_sides", [](DetectorOptions& o) { o.dark_outlines.slack_sides = 5; }, "5"},
       {"payload_area.self_threshold.max_light_black_ring",
        [](DetectorOptions& o) { o.payload_area.self_threshold.max_light_black_ring = 1.5; }, "1.5"},
       {"payload_area.self_threshold.spare_bits", [](DetectorOptions& o) { o.payload_area.self_threshold.spare_bits = -1; },

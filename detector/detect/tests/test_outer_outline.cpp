@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 
 #include "detect/outer_outline.hpp"
@@ -36,9 +37,6 @@ void expect_square_30_50(const Corners& q) {
 }
 }  // namespace
 
-// A square's edge (20 px, outward steps), the payload's inner edges at 3/4 of the way out (outward
-// steps too, as where a leaking white ring meets the border's inside) and a ring's outer edge (inward
-// steps): only the square's edge is kept, most of it.
 // angle_bin is the atan2f formula's bin, exactly: on the half-pixel lattice the outlines use (the
 // centre on or between lattice points), on random offsets, on the axes and at the centre, for the
 // default 96 bins and others. The test counts the lattice points that sit within 1e-3 of a bin's edge
@@ -69,8 +67,19 @@ TEST(OuterOutline, AngleBinIsTheAtan2fBin) {
     }
   }
   EXPECT_GT(near_edge, 100);
+  // Zeros of either sign and infinities take the formula itself (a NaN, which the outlines' integer
+  // coordinates cannot give, would make the formula's float-to-int conversion undefined).
+  const float inf = std::numeric_limits<float>::infinity();
+  for (const float dx : {0.0f, -0.0f, 1.0f, -1.0f, inf, -inf})
+    for (const float dy : {0.0f, -0.0f, 1.0f, -1.0f, inf, -inf}) {
+      const float per_radian = 96.0f / (2 * std::numbers::pi_v<float>);
+      EXPECT_EQ(angle_bin(dx, dy, 96, per_radian), reference(dx, dy, 96, per_radian)) << dx << ", " << dy;
+    }
 }
 
+// A square's edge (20 px, outward steps), the payload's inner edges at 3/4 of the way out (outward
+// steps too, as where a leaking white ring meets the border's inside) and a ring's outer edge (inward
+// steps): only the square's edge is kept, most of it.
 TEST(OuterOutline, KeepsTheSquaresEdgeAndDropsInnerEdgesAndTheRingsOuterEdge) {
   std::vector<BoundaryPoint> group;
   outline(group, 80, 20, 1);
