@@ -5,7 +5,7 @@
 #include <string>
 
 #include "detect/line_quads.hpp"  // centre_covered
-#include "detect/payload_decode.hpp"  // border_contrast_plausible
+#include "detect/payload_decode.hpp"  // border_worth_refining
 
 namespace tagbench {
 
@@ -13,7 +13,7 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
                                      std::span<const Corners> covered, const QuadFitOptions& fit,
                                      const EdgeRefineOptions& refine, const DarkOutlineOptions& opt,
                                      QuadFitScratch& fit_scratch, DarkOutlineScratch& s,
-                                     const BorderPrecheck& precheck) {
+                                     const ThresholdQuadOptions::RefineCheck& check) {
   std::vector<Quad> out;
   if (!opt.enabled) return out;
   if (components.width != img.width || components.height != img.height)
@@ -72,10 +72,8 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
     if (centre_covered(q, covered)) continue;
     // Refused by the pre-filter: left as fitted, for the decoder's pre-filter to refuse by the same
     // test (the quad stays in the trace, where --explain finds it), as the threshold quads' refine_check.
-    if (opt.check_before_refining &&
-        !border_contrast_plausible(img, q.corners, precheck.payload_width, precheck.min_contrast) &&
-        !(opt.slack_sides > 0 && border_contrast_plausible_with_slack(img, q.corners, precheck.payload_width,
-                                                                       precheck.min_contrast, opt.slack_sides))) {
+    if (opt.check_before_refining && check.enabled &&
+        !border_worth_refining(img, q.corners, check.payload_width, check.min_contrast, opt.slack_sides)) {
       out.push_back(q);
       continue;
     }

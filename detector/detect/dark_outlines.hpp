@@ -26,6 +26,7 @@
 #include "outer_outline.hpp"
 #include "quad_fit.hpp"
 #include "quad_search.hpp"
+#include "threshold_quads.hpp"  // ThresholdQuadOptions::RefineCheck
 
 namespace tagbench {
 
@@ -43,20 +44,14 @@ struct DarkOutlineOptions {
   // the whole chain of fit_quads (the whole group, one side, the occluded fit): a joined outline
   // holds several outlines by construction.
   bool outline_only = true;
-  // The border pre-filter (PayloadOptions::quick_reject's test, border_contrast_plausible) asked of each
-  // quad before it is refined, not after: most joined outlines are texture, and refining them all
-  // cost more than reading them.
+  // The threshold quads' border check before refining (ThresholdQuadOptions::refine_check, where it is
+  // enabled: the Detector turns it off where the decoder would not ask the same test of the same
+  // image) asked of these quads too: most joined outlines are texture, and refining them all cost more
+  // than reading them.
   bool check_before_refining = false;
   // With check_before_refining: a quad the plain test refuses is still refined when this many sides
-  // (1..4) pass the test with slack (border_contrast_plausible_with_slack); 0: never.
+  // (1..4) pass the test with slack (border_worth_refining); 0: never.
   int slack_sides = 0;
-};
-
-// What the border pre-filter needs besides the image: the widest payload of the families tried and
-// the contrast asked (PayloadOptions::min_contrast).
-struct BorderPrecheck {
-  int payload_width = 0;
-  double min_contrast = 0;
 };
 
 struct DarkOutlineScratch {
@@ -68,12 +63,12 @@ struct DarkOutlineScratch {
 
 // The quads of the joined outlines of `groups` (found with `components` on `img`), fitted with `fit`,
 // whose centre lies inside none of `covered`, each refined on `img` with `refine` (a quad whose
-// refinement fails is dropped; with opt.check_before_refining, one refused by the border pre-filter,
-// asked with `precheck`, is left as fitted). Throws std::invalid_argument when components and img differ in size.
+// refinement fails is dropped; with opt.check_before_refining and `check` enabled, one the border
+// check refuses is left as fitted, for the decoder's pre-filter to refuse by the same test). Throws std::invalid_argument when components and img differ in size.
 std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Components& components, const ImageF& img,
                                      std::span<const Corners> covered, const QuadFitOptions& fit,
                                      const EdgeRefineOptions& refine, const DarkOutlineOptions& opt,
                                      QuadFitScratch& fit_scratch, DarkOutlineScratch& scratch,
-                                     const BorderPrecheck& precheck = {});
+                                     const ThresholdQuadOptions::RefineCheck& check = {});
 
 }  // namespace tagbench

@@ -217,14 +217,9 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   };
   if (opt_.dark_outlines.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution) {
     auto& tq = workspace.impl().threshold_quads;  // dark_outlines.hpp: a dark component's groups joined
-    // The pre-filter before refining only where the decoder asks the same test of the same image (as
-    // refine_check: no blur before decoding).
-    DarkOutlineOptions dark = opt_.dark_outlines;
-    dark.check_before_refining = dark.check_before_refining && opt_.payload.quick_reject && opt_.decode_sigma == 0;
     decode_more(dark_outline_quads(tq.pass.groups, tq.pass.components, gray, covered(), opt_.threshold_quads.fit,
-                                   opt_.threshold_quads.refine, dark, tq.fit,
-                                   workspace.impl().dark_outlines,
-                                   BorderPrecheck{max_payload_width(families_), opt_.payload.min_contrast}));
+                                   opt_.threshold_quads.refine, opt_.dark_outlines, tq.fit,
+                                   workspace.impl().dark_outlines, opt_.threshold_quads.refine_check));
   }
   if (opt_.coarse_pass.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution)
     decode_more(coarse_pass_quads(gray, opt_.threshold_quads, covered(), opt_.coarse_pass,  // coarse_pass.hpp
@@ -277,9 +272,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       const double contrast = opt_.payload.min_contrast;
       for (const Quad& q : quads)
         if (opt_.line_quads.check_before_refining && opt_.payload.quick_reject &&
-            !border_contrast_plausible(img, q.corners, max_d, contrast) &&
-            !(inner && opt_.line_quads.inner_check_slack &&
-              border_contrast_plausible_with_slack(img, q.corners, max_d, contrast, 4)))
+            !border_worth_refining(img, q.corners, max_d, contrast, inner && opt_.line_quads.inner_check_slack ? 4 : 0))
           continue;
         else if (auto r = refine_quad_edges(gray, q.corners, opt_.threshold_quads.refine)) {
           out.push_back(q);

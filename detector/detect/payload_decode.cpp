@@ -77,6 +77,12 @@ bool border_contrast_plausible_with_slack(const ImageF& img, const std::array<Ei
   return good >= min_sides;
 }
 
+bool border_worth_refining(const ImageF& img, const std::array<Eigen::Vector2d, 4>& corners, int d,
+                           double min_contrast, int slack_sides) {
+  return border_contrast_plausible(img, corners, d, min_contrast) ||
+         (slack_sides > 0 && border_contrast_plausible_with_slack(img, corners, d, min_contrast, slack_sides));
+}
+
 std::optional<PayloadReading> decide_cells(std::span<const double> grid, std::span<const double> payload, int d,
                                            double min_contrast) {
   const int n = d + 4;

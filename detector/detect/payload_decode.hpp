@@ -60,6 +60,11 @@ bool border_contrast_plausible(const ImageF& img, const std::array<Eigen::Vector
 bool border_contrast_plausible_with_slack(const ImageF& img, const std::array<Eigen::Vector2d, 4>& corners, int d,
                                           double min_contrast, int min_sides);
 
+// The check before refining a candidate quad: border_contrast_plausible, or, with slack_sides > 0,
+// the test with slack on that many sides (for quads placed a pixel or two off).
+bool border_worth_refining(const ImageF& img, const std::array<Eigen::Vector2d, 4>& corners, int d,
+                           double min_contrast, int slack_sides);
+
 // Bilinear intensity at a sub-pixel point p inside [0, w-1] x [0, h-1] of a non-empty image (the
 // caller has checked). Inline: edge refinement (edge_refine.hpp) takes thousands per quad.
 inline float sample_bilinear_inside(const ImageF& img, const Eigen::Vector2d& p) {

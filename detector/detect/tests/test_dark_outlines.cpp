@@ -92,7 +92,7 @@ TEST(DarkOutlines, JoinsTheGroupsOfABrokenRing) {
 // (the bridges off the middles), or its test with slack admits, is refined as without the check.
 TEST(DarkOutlines, ThePreFilterBeforeRefiningLeavesRefusedQuadsAsFitted) {
   const DetectorOptions o;
-  const BorderPrecheck pre{6, 0.02};
+  const ThresholdQuadOptions::RefineCheck pre{.enabled = true, .payload_width = 6, .min_contrast = 0.02};
   const DarkOutlineOptions plain{.enabled = true}, checked{.enabled = true, .check_before_refining = true},
       slack{.enabled = true, .check_before_refining = true, .slack_sides = 3};
   const auto quads = [&](const ImageF& img, const DarkOutlineOptions& opt) {
