@@ -288,6 +288,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
       // than a family corrects (a 36h11 false detection on the corpus and a misplaced quad on the
       // realistic set were both 2 bits off).
       const auto too_far = [&](const std::string& family, int hamming) {
+        if (hamming == 0 && opt_.line_quads.keep_exact) return false;
         for (const TagFamily& f : families_)
           if (f.name() == family)
             return hamming > bits_corrected_for(f.min_hamming(), opt_.max_hamming, opt_.hamming_by_family) -

@@ -71,7 +71,8 @@ struct QuadOutcome {
     kNotDecoded,      // read, but no family decoded it within max_hamming
     kDecoded,         // became a detection (before duplicate suppression and the margin filter)
     // Decoded within its family's correction, but with more bits corrected than the stage that made
-    // the quad accepts (the line quads: LineQuadOptions::spare_bits fewer); not reported. The
+    // the quad accepts (the line quads: LineQuadOptions::spare_bits fewer, exact readings kept with
+  // keep_exact); not reported. The
     // fallbacks that take undecoded quads (code refit, bent reading) leave it alone, as when decoded.
     kTooFarForItsSource,
   };

@@ -42,6 +42,10 @@ struct LineQuadOptions {
   // 380 such quads a realistic frame are read, and with 1 spare bit a 36h11 false detection 2 bits off
   // came from one on the corpus.
   int spare_bits = 2;
+  // A reading with no bit wrong is kept whatever spare_bits says: else a family correcting no more
+  // than spare_bits (16h5 corrects 1) would take no tag at all from these quads, though they are
+  // found and read for it.
+  bool keep_exact = true;
   // The edges found on the image resampled to this scale (in (0, 1]; 1: as it is; 0.5: its 2 x 2
   // average), their ends mapped back; the quads are then read and refined at full resolution.
   double scale = 1;

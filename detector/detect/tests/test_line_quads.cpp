@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
@@ -127,6 +129,38 @@ TEST(LineQuads, AtHalfResolutionOnlyWhenAsked) {
   asked.line_quads.at_half_resolution = true;
   EXPECT_EQ(reads(o), reads(none));
   EXPECT_GT(reads(asked), reads(o));
+}
+
+// LineQuadOptions::keep_exact: a family correcting no more bits than spare_bits (16h5 corrects 1,
+// spare_bits is 2) takes its exact readings from the line quads; without it, none (the quad decoded
+// but too far for its source). 36h11 (3 - 2 = 1 bit) takes its exact reading either way. The
+// threshold stage is made blind (no window has the contrast it asks) so that the tag can only come
+// from the line quads.
+TEST(LineQuads, ExactReadingsKeptForFamiliesCorrectingFewBits) {
+  const Corners c = synth::square_tag_corners(60, 60, 36, 0.3);
+  const auto found_by_line_quads = [&](const std::string& family, int id, bool keep_exact) {
+    DetectorOptions o;
+    o.families = {family};
+    o.threshold_quads.threshold.min_contrast = o.threshold_quads.threshold.low_contrast = 0.95f;
+    o.threshold_quads.low_contrast.enabled = false;
+    o.second_look.enabled = false;
+    o.line_quads.keep_exact = keep_exact;
+    const TagFamily fam = load_family(family);
+    ImageF img = synth::render_tag(120, 120, tag_cells(fam, id), synth::homography_for(c));
+    for (float& v : img.data) v = 0.3f + 0.4f * v;  // contrast 0.4, under the threshold stage's floor
+    DetectorTrace trace;
+    const auto found = Detector(o).detect(img, &trace);
+    const bool too_far = std::any_of(trace.quad_outcomes.begin(), trace.quad_outcomes.end(), [&](const QuadOutcome& q) {
+      return q.fate == QuadOutcome::Fate::kTooFarForItsSource && q.id == id && q.hamming == 0;
+    });
+    if (found.size() == 1 && found[0].id == id && found[0].hamming == 0) return std::string("found");
+    return std::string(too_far ? "too far" : "not read") + " (" + std::to_string(found.size()) + " found)";
+  };
+  EXPECT_EQ(found_by_line_quads("16h5", 11, true), "found");
+  EXPECT_EQ(found_by_line_quads("16h5", 11, false), "too far (0 found)");
+  EXPECT_EQ(found_by_line_quads("36h11", 7, false), "found");
+  EXPECT_TRUE(DetectorOptions{}.line_quads.keep_exact);
+  EXPECT_TRUE(DetectorOptions::thorough().line_quads.keep_exact);
 }
 
 }  // namespace test_line_quads
