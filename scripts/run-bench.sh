@@ -74,6 +74,13 @@ echo "bench: the realistic image set (small tags, JPEG photographs' camera; issu
 # issue-17 decision used seed 1): how far the seed-1 numbers carry to frames nobody tuned for.
 "$BIN" realistic --frames 200 --seed 2 --ceiling --detectors tagbench,tagbench-thorough,tagbench-half,libapriltag-d1,libapriltag-d2 \
   --out results/realistic_seed2
+# The same set (seed 1) printed in 16h5 and 25h9, the other families of the distance sweeps: whether what
+# was measured in 36h11 carries to codes that correct fewer bits (16h5's line quads gave no tag until
+# session 31, which only such a run shows).
+for fam in 16h5 25h9; do
+  "$BIN" realistic --frames 200 --family "$fam" \
+    --detectors tagbench,tagbench-thorough,tagbench-half,libapriltag-d1,libapriltag-d2 --out "results/realistic_$fam"
+done
 # Where our detectors lost the tags they missed (issue 17, section 2): per distance step and size bin.
 "$PY" scripts/loss_breakdown.py results/fig10_distance_summary.csv --out results/fig10_distance_loss.csv
 "$PY" scripts/loss_breakdown.py results/realistic_summary.csv --out results/realistic_loss.csv

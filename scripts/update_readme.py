@@ -253,7 +253,8 @@ def margin_findings(d):
 
 def _realistic_rates(d, ceiling=False):
     """Per size bin (rows) and detector (columns) of d/realistic_summary.csv: detection rate % [Wilson 95 %],
-    wrong ids and false detections where there are any; with `ceiling`, a column of the share the payload
+    wrong ids and false detections where there are any (a bin with no tag, "<12" or ">40", holds false
+    detections only: its rate is "-"); with `ceiling`, a column of the share the payload
     readers decode through the true corners (d/realistic_ceiling_summary.csv, `realistic --ceiling`)."""
     summary = rows(os.path.join(d, "realistic_summary.csv"))
     reads = {r["size_bin"]: r for r in rows(os.path.join(d, "realistic_ceiling_summary.csv"))
@@ -270,10 +271,14 @@ def _realistic_rates(d, ceiling=False):
         if ceiling:
             row.append(f'{100 * int(reads[b]["ceiling_either"]) / tags:.0f}' if b in reads else "-")
         for det in dets:
+            if det not in sel:  # a detector without a row in this bin
+                row.append("-")
+                continue
             r = sel[det]
             wrong = r.get("wrong_id_tags", "0") or "0"
-            row.append(f'{100 * float(r["detection_rate"]):.0f} [{100 * float(r["rate_lo95"]):.0f}-'
-                       f'{100 * float(r["rate_hi95"]):.0f}]' + (f", {wrong} wrong id" if wrong != "0" else "")
+            rate = (f'{100 * float(r["detection_rate"]):.0f} [{100 * float(r["rate_lo95"]):.0f}-'
+                    f'{100 * float(r["rate_hi95"]):.0f}]' if tags else "-")  # a bin of false detections only
+            row.append(rate + (f", {wrong} wrong id" if wrong != "0" else "")
                        + (f', {r["false_detections"]} false' if r["false_detections"] != "0" else ""))
         body.append(row)
     head = ["Black square", "Tags"] + (["Readable from the true corners, %"] if ceiling else [])
@@ -290,7 +295,14 @@ def realistic_seed2_table(d):
     return _realistic_rates(os.path.join(d, "realistic_seed2"), ceiling=True)
 
 
-BLOCKS = {"pending": pending, "realistic_seed2_table": realistic_seed2_table, "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
+def realistic_family_table(d, family):
+    """The realistic set (seed 1) in another family (results/realistic_<family>/): rates, wrong ids, false."""
+    return _realistic_rates(os.path.join(d, "realistic_" + family))
+
+
+BLOCKS = {"pending": pending, "realistic_seed2_table": realistic_seed2_table,
+          "realistic_16h5_table": lambda d: realistic_family_table(d, "16h5"),
+          "realistic_25h9_table": lambda d: realistic_family_table(d, "25h9"), "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
           "loss_realistic": loss_realistic, "issue17_targets": issue17_targets, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,
           "raytrace_external_claims": raytrace_external_claims,

@@ -2,7 +2,8 @@
 """scripts/readme_targets.py's realistic-set rows on small CSVs written here: the 95 % row carries the
 payload readers' ceiling from realistic_ceiling_summary.csv when the run had --ceiling, and nothing
 when it did not, and the thorough profile's rate beside the default's when it ran; update_readme.py's table of the held-out seed (results/realistic_seed2/) carries the
-ceiling as a share of each bin's tags.
+ceiling as a share of each bin's tags, and its tables of other families give no rate for a bin of false
+detections only.
 Usage: test_readme_targets.py SOURCE_DIR (run by ctest)."""
 import os
 import sys
@@ -80,6 +81,18 @@ class HeldOutTable(unittest.TestCase):
             self.assertEqual(len(lines), 4)  # header, rule, 20-24 px, all
             self.assertTrue(lines[2].startswith("| 20-24 px | 10 | 90 | 80 [60-90] | 50 [30-70], 1 wrong id, 2 false |"), lines[2])
             self.assertIn("| all | 10 | - |", lines[3])  # no ceiling row for "all" in this CSV
+
+
+class FamilyTables(unittest.TestCase):
+    def test_a_bin_of_false_detections_only_has_no_rate(self):
+        with tempfile.TemporaryDirectory() as d:
+            os.mkdir(os.path.join(d, "realistic_16h5"))
+            write(d, "realistic_16h5/realistic_summary.csv",
+                  SUMMARY2.replace("36h11", "16h5") + "realistic,1,16h5,2,<12,tagbench,0,,,,,3\n")
+            lines = update_readme.realistic_family_table(d, "16h5").splitlines()
+            self.assertNotIn("Readable", lines[0])  # no ceiling column
+            self.assertTrue(lines[2].startswith("| 20-24 px | 10 | 80 [60-90] | 50 [30-70], 1 wrong id, 2 false |"), lines[2])
+            self.assertEqual(lines[4], "| <12 px | 0 | -, 3 false | - |")  # no libapriltag row there: "-"
 
 
 if __name__ == "__main__":
