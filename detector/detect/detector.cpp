@@ -323,6 +323,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     decoded.insert(decoded.end(), std::make_move_iterator(refit.begin()), std::make_move_iterator(refit.end()));
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
+  if (opt_.suppress_overlaps) out = suppress_overlaps(std::move(out));
   drop_below_margin(out, opt_.min_decision_margin);
   std::vector<HiddenSides> hidden;
   if (opt_.occlusion_refit) hidden = refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);

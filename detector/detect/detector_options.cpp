@@ -173,6 +173,7 @@ DetectorOptions DetectorOptions::paper() {
   o.dark_outlines.enabled = false;
   o.soft_decode.enabled = false;
   o.threshold_quads.low_contrast.enabled = false;
+  o.suppress_overlaps = false;
   return o;
 }
 

@@ -195,6 +195,11 @@ struct DetectorOptions {
   // run at m gives (how `tagbench falsepos margin` scores thresholds from one run). What each
   // threshold saves in false detections and costs in real ones: results/margin_tradeoff.csv (README).
   double min_decision_margin = 0;
+  // Beyond the paper: of two detections of different ids over the same quad, only the one with fewer
+  // bits corrected (then the higher decision margin) is kept (suppress_duplicates.hpp), after the
+  // duplicates are merged and before min_decision_margin. Default profile on (realistic set in 16h5:
+  // every wrong id was such a second reading beside the right one); paper(): off.
+  bool suppress_overlaps = true;
   // Beyond the paper: after decoding, check each side against the decoded tag (black ring inside,
   // white ring outside), re-fit a partly occluded side from its visible part, withdraw the detection
   // when a side cannot be fixed (occlusion_refit.hpp). Default profile on; paper(): off.

@@ -1,5 +1,7 @@
 #include "detect/suppress_duplicates.hpp"
 
+#include <algorithm>
+
 namespace tagbench {
 namespace {
 
@@ -9,7 +11,43 @@ double perimeter(const Corners& c) {
   return p;
 }
 
+// Whether p lies inside the convex quad c (either winding; on an edge counts as inside).
+bool inside(const Corners& c, const Eigen::Vector2d& p) {
+  int pos = 0, neg = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d e = c[(i + 1) % 4] - c[i], q = p - c[i];
+    const double z = e.x() * q.y() - e.y() * q.x();
+    pos += z > 0;
+    neg += z < 0;
+  }
+  return pos == 0 || neg == 0;
+}
+
 }  // namespace
+
+std::vector<Detection> suppress_overlaps(std::vector<Detection> found, double max_perimeter_ratio) {
+  std::vector<Detection> out;
+  for (auto& d : found) {
+    bool replaced = false, dropped = false;
+    const double pd = perimeter(d.corners);
+    for (auto& o : out) {
+      if (o.family == d.family && o.id == d.id) continue;  // suppress_duplicates' case
+      const double po = perimeter(o.corners);
+      if (!(std::max(pd, po) < max_perimeter_ratio * std::min(pd, po))) continue;
+      if (!inside(o.corners, d.center) || !inside(d.corners, o.center)) continue;
+      const bool better = d.hamming < o.hamming || (d.hamming == o.hamming && d.decision_margin > o.decision_margin);
+      if (better) {
+        o = std::move(d);
+        replaced = true;
+      } else {
+        dropped = true;
+      }
+      break;
+    }
+    if (!replaced && !dropped) out.push_back(std::move(d));
+  }
+  return out;
+}
 
 std::vector<Detection> suppress_duplicates(std::vector<Detection> found) {
   std::vector<Detection> out;

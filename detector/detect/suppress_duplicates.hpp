@@ -19,6 +19,15 @@ namespace tagbench {
 // merged with each other, even when a replacement moves one close to another.
 std::vector<Detection> suppress_duplicates(std::vector<Detection> detections);
 
+// Beyond the paper (DetectorOptions::suppress_overlaps; default profile): two detections of different
+// ids (or families) over the same quad are one physical tag read two ways, one of them wrong (16h5's
+// close codes, read through a quad a few pixels off). They overlap when each one's centre lies inside
+// the other's corners and their perimeters differ by less than max_perimeter_ratio (so a small tag
+// nested in a large one's hollow is left alone). Of two overlapping, the one with fewer bits corrected
+// is kept, then the one with the higher decision_margin; on a full tie the earlier one. A single pass
+// in input order, as suppress_duplicates.
+std::vector<Detection> suppress_overlaps(std::vector<Detection> detections, double max_perimeter_ratio = 1.5);
+
 // Removes the detections whose decision_margin is below min_decision_margin (order kept).
 void drop_below_margin(std::vector<Detection>& detections, double min_decision_margin);
 

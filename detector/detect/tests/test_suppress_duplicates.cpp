@@ -2,6 +2,7 @@
 // and the minimum decision margin filter.
 #include <gtest/gtest.h>
 
+#include "detect/detector_options.hpp"
 #include "detect/suppress_duplicates.hpp"
 
 namespace test_suppress_duplicates {
@@ -92,6 +93,44 @@ TEST(SuppressDuplicates, MinimumDecisionMargin) {
   EXPECT_EQ(xs(v), (std::vector<double>{0, 200}));  // equal to the threshold is kept
   drop_below_margin(v, 0);
   EXPECT_EQ(v.size(), 2u);
+}
+
+// suppress_overlaps: another id over the same quad (each centre inside the other's corners, sizes
+// within 1.5 x) is one tag read twice; fewer bits corrected wins, then the higher decision margin,
+// then the earlier one.
+TEST(SuppressOverlaps, AnotherIdOverTheSameQuadKeepsTheBetterReading) {
+  const auto with_margin = [](Detection d, double m) {
+    d.decision_margin = m;
+    return d;
+  };
+  // Frame 64 of the 16h5 realistic set: both exact, the second 6 px off with margin 0.
+  auto kept = suppress_overlaps({with_margin(det(0, 0, 38, 28), 0.96), with_margin(det(1, 6, 38, 21), 0)});
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].id, 28);
+  kept = suppress_overlaps({with_margin(det(1, 6, 38, 21), 0), with_margin(det(0, 0, 38, 28), 0.96)});
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].id, 28);  // order does not matter when one is better
+  kept = suppress_overlaps({with_margin(det(0, 0, 38, 28, 1), 0.9), with_margin(det(1, 6, 38, 21, 0), 0.1)});
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].id, 21);  // fewer bits corrected first
+  kept = suppress_overlaps({with_margin(det(0, 0, 38, 28), 0.5), with_margin(det(1, 6, 38, 21, 0, 100, "25h9"), 0.5)});
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].id, 28);  // a full tie (another family here): the earlier one
+}
+
+TEST(SuppressOverlaps, SeparateNestedAndSameIdDetectionsAreLeftAlone) {
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 38, 1), det(30, 0, 38, 2)}).size(), 2u);     // apart (centres outside)
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 38, 1), det(18, 0, 38, 2)}).size(), 1u);     // centres inside each other
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 80, 1), det(0, 0, 20, 2)}).size(), 2u);      // nested: perimeters 4 x apart
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 40, 1), det(0, 0, 59, 2)}).size(), 1u);      // under 1.5 x
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 40, 1), det(0, 0, 60, 2)}).size(), 2u);      // 1.5 x: left alone
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 38, 1), det(2, 0, 38, 1)}).size(), 2u);      // same id: suppress_duplicates'
+}
+
+TEST(SuppressOverlaps, OnInTheDefaultAndThoroughProfilesOffInThePapers) {
+  EXPECT_TRUE(DetectorOptions{}.suppress_overlaps);
+  EXPECT_TRUE(DetectorOptions::thorough().suppress_overlaps);
+  EXPECT_FALSE(DetectorOptions::paper().suppress_overlaps);
 }
 
 }  // namespace test_suppress_duplicates
