@@ -250,7 +250,8 @@ PointExplanation explain_point(const ExplainPoint& p, const DetectorTrace& trace
         } else {
           out.stage = "duplicate";
           out.text = "decoded as " + o.family + " id " + std::to_string(o.id) +
-                     ", but a nearby detection of the same id, or of another id over the same quad, was kept instead";
+                     ", but a nearby detection of the same id, or of another id over the same quad, was kept "
+                     "instead";
         }
         break;
     }

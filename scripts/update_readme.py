@@ -300,7 +300,8 @@ def realistic_family_table(d, family):
     return _realistic_rates(os.path.join(d, "realistic_" + family))
 
 
-BLOCKS = {"pending": pending, "realistic_seed2_table": realistic_seed2_table,
+BLOCKS = {"pending": pending,
+          "realistic_seed2_table": realistic_seed2_table,
           "realistic_16h5_table": lambda d: realistic_family_table(d, "16h5"),
           "realistic_25h9_table": lambda d: realistic_family_table(d, "25h9"), "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
           "loss_realistic": loss_realistic, "issue17_targets": issue17_targets, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,

@@ -69,11 +69,11 @@ struct QuadOutcome {
     kNoHomography,    // degenerate corners
     kUnreadable,      // no payload width could be read (cells outside the image, no border contrast)
     kNotDecoded,      // read, but no family decoded it within max_hamming
-    kDecoded,         // became a detection (before duplicate suppression and the margin filter)
+    kDecoded,         // became a detection (before duplicate and overlap suppression and the margin filter)
     // Decoded within its family's correction, but with more bits corrected than the stage that made
     // the quad accepts (the line quads: LineQuadOptions::spare_bits fewer, exact readings kept with
-  // keep_exact); not reported. The
-    // fallbacks that take undecoded quads (code refit, bent reading) leave it alone, as when decoded.
+    // keep_exact); not reported. The fallbacks that take undecoded quads (code refit, bent reading)
+    // leave it alone, as when decoded.
     kTooFarForItsSource,
   };
   Fate fate = Fate::kUnreadable;

@@ -132,7 +132,8 @@ LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, 
                    "(occluded or bent) and could not be re-fitted from its visible part";
         } else {
           e.stage = LossStage::kDuplicate;
-          e.text = "decoded right, but a nearby detection of the same id, or of another id over the same quad, was kept instead";
+          e.text = "decoded right, but a nearby detection of the same id, or of another id over the same quad, "
+                   "was kept instead";
         }
       }
       if (!matched || e.stage > out.stage ||

@@ -17,7 +17,8 @@
 //   misread        a matching quad was read, but no family decoded it within its bits corrected; the
 //                  explanation gives how many bits of the tag's own code were read wrong
 //   wrong_id       a matching quad decoded as another id or family
-//   duplicate      it decoded right but a nearby detection of the same id was kept instead
+//   duplicate      it decoded right but a nearby detection of the same id, or of another id over the
+//                  same quad (suppress_overlaps), was kept instead
 //   below_margin   it decoded right but its decision margin was under min_decision_margin
 //   withdrawn      it decoded right, then the occlusion refit withdrew it (occlusion_refit.hpp): a
 //                  side disagreed with the decoded tag and could not be re-fitted (DetectorTrace::withdrawn

@@ -34,7 +34,7 @@ struct LineSegmentOptions {
   // weak texture then seeds no region of its own (most of the time went to such regions).
   double min_seed_gradient = 0;
   // -log10 of the accepted NFA (LSD: 0, one false segment an image; here up to 100: the quads made
-  // of them must still read 2 bits closer than their family corrects, LineQuadOptions::spare_bits).
+  // of them must still read 2 bits closer than their family corrects or exactly, LineQuadOptions).
   double log_eps = -2.0;
   double min_length_px = 4.0;  // shorter segments are not reported
   // A region growing past this many pixels is dropped whole (its pixels stay used): the edges this is

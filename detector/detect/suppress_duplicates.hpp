@@ -1,6 +1,7 @@
 #pragma once
 // After decoding (stage 6, paper section III-B's end; the rule: docs/paper-to-code.md section 1):
-// one detection per physical tag, then the minimum decision margin (beyond the paper).
+// one detection per physical tag (the paper's duplicates; beyond it, two ids over one quad), then the
+// minimum decision margin (beyond the paper).
 #include <vector>
 
 #include "detect/detector.hpp"
@@ -23,9 +24,9 @@ std::vector<Detection> suppress_duplicates(std::vector<Detection> detections);
 // ids (or families) over the same quad are one physical tag read two ways, one of them wrong (16h5's
 // close codes, read through a quad a few pixels off). They overlap when each one's centre lies inside
 // the other's corners and their perimeters differ by less than max_perimeter_ratio (so a small tag
-// nested in a large one's hollow is left alone). Of two overlapping, the one with fewer bits corrected
-// is kept, then the one with the higher decision_margin; on a full tie the earlier one. A single pass
-// in input order, as suppress_duplicates.
+// nested in a large one's hollow is left alone). The readings are taken best first (fewer bits
+// corrected, then the higher decision_margin, then input order) and each is kept when it overlaps no
+// reading kept before it; the kept ones are returned in input order. No two kept ones overlap.
 std::vector<Detection> suppress_overlaps(std::vector<Detection> detections, double max_perimeter_ratio = 1.5);
 
 // Removes the detections whose decision_margin is below min_decision_margin (order kept).

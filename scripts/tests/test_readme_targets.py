@@ -91,7 +91,8 @@ class FamilyTables(unittest.TestCase):
                   SUMMARY2.replace("36h11", "16h5") + "realistic,1,16h5,2,<12,tagbench,0,,,,,3\n")
             lines = update_readme.realistic_family_table(d, "16h5").splitlines()
             self.assertNotIn("Readable", lines[0])  # no ceiling column
-            self.assertTrue(lines[2].startswith("| 20-24 px | 10 | 80 [60-90] | 50 [30-70], 1 wrong id, 2 false |"), lines[2])
+            self.assertTrue(lines[2].startswith("| 20-24 px | 10 | 80 [60-90] | 50 [30-70], 1 wrong id, 2 false |"),
+                            lines[2])
             self.assertEqual(lines[4], "| <12 px | 0 | -, 3 false | - |")  # no libapriltag row there: "-"
 
 

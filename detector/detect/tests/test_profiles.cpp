@@ -70,6 +70,9 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   EXPECT_TRUE(d.second_look.enabled);
   EXPECT_FALSE(p.soft_decode.enabled);
   EXPECT_TRUE(d.soft_decode.enabled);
+  EXPECT_FALSE(p.suppress_overlaps);
+  EXPECT_TRUE(d.suppress_overlaps);
+  EXPECT_TRUE(DetectorOptions::thorough().suppress_overlaps);
   p.validate();
   d.validate();
 }

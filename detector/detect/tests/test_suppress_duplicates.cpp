@@ -2,6 +2,9 @@
 // and the minimum decision margin filter.
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <vector>
+
 #include "detect/detector_options.hpp"
 #include "detect/suppress_duplicates.hpp"
 
@@ -127,10 +130,38 @@ TEST(SuppressOverlaps, SeparateNestedAndSameIdDetectionsAreLeftAlone) {
   EXPECT_EQ(suppress_overlaps({det(0, 0, 38, 1), det(2, 0, 38, 1)}).size(), 2u);      // same id: suppress_duplicates'
 }
 
-TEST(SuppressOverlaps, OnInTheDefaultAndThoroughProfilesOffInThePapers) {
-  EXPECT_TRUE(DetectorOptions{}.suppress_overlaps);
-  EXPECT_TRUE(DetectorOptions::thorough().suppress_overlaps);
-  EXPECT_FALSE(DetectorOptions::paper().suppress_overlaps);
+// The best reading first, whatever the input order: C overlaps both A and B (which do not overlap
+// each other) and corrects fewer bits, so C alone is kept, in every order; a full tie keeps the
+// earlier one.
+TEST(SuppressOverlaps, BestReadingFirstInAnyOrder) {
+  const Detection a = det(0, 0, 38, 1, 1), b = det(30, 0, 38, 2, 1), c = det(15, 0, 38, 3, 0);
+  for (const auto& order : std::vector<std::vector<Detection>>{{a, b, c}, {a, c, b}, {b, a, c}, {c, a, b}, {b, c, a}}) {
+    const auto kept = suppress_overlaps(order);
+    ASSERT_EQ(kept.size(), 1u);
+    EXPECT_EQ(kept[0].id, 3);
+  }
+  // Kept ones come back in input order: two separate tags, each with a worse reading over it.
+  const auto kept =
+      suppress_overlaps({det(100, 0, 38, 5, 1), det(0, 0, 38, 1), det(101, 2, 38, 6), det(1, 2, 38, 2, 1)});
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].id, 1);
+  EXPECT_EQ(kept[1].id, 6);
+}
+
+// Either winding of the corners counts; NaN centres or corners and corners on one line never overlap.
+TEST(SuppressOverlaps, WindingNaNAndDegenerateQuads) {
+  Detection ccw = det(2, 1, 38, 2, 1);
+  std::swap(ccw.corners[1], ccw.corners[3]);  // counter-clockwise
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 38, 1), ccw}).size(), 1u);
+  Detection nan_centre = det(2, 1, 38, 2, 1);
+  nan_centre.center.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 38, 1), nan_centre}).size(), 2u);
+  Detection nan_corner = det(2, 1, 38, 2, 1);
+  nan_corner.corners[2].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 38, 1), nan_corner}).size(), 2u);
+  Detection line = det(0, 0, 38, 2, 1);  // corners on the line y = 0, perimeter 4 x 19 as a square's 76
+  line.corners = {Eigen::Vector2d(-19, 0), Eigen::Vector2d(0, 0), Eigen::Vector2d(19, 0), Eigen::Vector2d(0, 0)};
+  EXPECT_EQ(suppress_overlaps({det(0, 0, 20, 1), line}).size(), 2u);
 }
 
 }  // namespace test_suppress_duplicates
