@@ -171,6 +171,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "lq_spare") o.line_quads.spare_bits = static_cast<int>(x);
     else if (k == "lq_exact") o.line_quads.keep_exact = x != 0;
     else if (k == "overlap") o.suppress_overlaps = x != 0;
+    else if (k == "refine_cells") o.threshold_quads.refine.cells_across = static_cast<int>(x);
     else if (k == "lq_check") o.line_quads.check_before_refining = x != 0;
     else if (k == "lq_slack") o.line_quads.inner_check_slack = x != 0;
     else if (k == "lq_ri") o.line_quads.refine_inner = x != 0;
