@@ -36,7 +36,8 @@ inline Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::V
   return q.hnormalized();
 }
 
-// Whether p lies inside the convex quad q (either winding); a point on a side counts as inside.
+// Whether p lies inside the convex quad q (either winding); a point on a side counts as inside. False
+// when a NaN is involved and when all four corners lie on one line (no inside to speak of).
 bool inside_quad(const Corners& q, const Eigen::Vector2d& p);
 
 // A quad's corners re-ordered so that its corner `rotation` (0..3) comes first: the printed order

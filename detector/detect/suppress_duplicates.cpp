@@ -1,7 +1,9 @@
 #include "detect/suppress_duplicates.hpp"
 
 #include <algorithm>
-#include <cmath>
+#include <numeric>
+
+#include "detect/homography.hpp"  // inside_quad
 
 namespace tagbench {
 namespace {
@@ -12,20 +14,6 @@ double perimeter(const Corners& c) {
   return p;
 }
 
-// Whether p lies inside the convex quad c (either winding; on an edge counts as inside). False for a
-// NaN anywhere and for a quad whose corners all lie on one line (no side has p strictly to one side).
-bool inside(const Corners& c, const Eigen::Vector2d& p) {
-  int pos = 0, neg = 0;
-  for (std::size_t i = 0; i < 4; ++i) {
-    const Eigen::Vector2d e = c[(i + 1) % 4] - c[i], q = p - c[i];
-    const double z = e.x() * q.y() - e.y() * q.x();
-    if (std::isnan(z)) return false;
-    pos += z > 0;
-    neg += z < 0;
-  }
-  return (pos == 0 || neg == 0) && pos + neg >= 2;
-}
-
 }  // namespace
 
 std::vector<Detection> suppress_overlaps(std::vector<Detection> found, double max_perimeter_ratio) {
@@ -33,7 +21,7 @@ std::vector<Detection> suppress_overlaps(std::vector<Detection> found, double ma
   // when it overlaps no reading kept before it; the kept ones are returned in input order. So the
   // result does not depend on the input order but through full ties, and no two kept ones overlap.
   std::vector<std::size_t> rank(found.size());
-  for (std::size_t i = 0; i < rank.size(); ++i) rank[i] = i;
+  std::iota(rank.begin(), rank.end(), std::size_t{0});
   std::stable_sort(rank.begin(), rank.end(), [&](std::size_t a, std::size_t b) {
     const Detection &x = found[a], &y = found[b];
     return x.hamming < y.hamming || (x.hamming == y.hamming && x.decision_margin > y.decision_margin);
@@ -42,18 +30,15 @@ std::vector<Detection> suppress_overlaps(std::vector<Detection> found, double ma
     if (a.family == b.family && a.id == b.id) return false;  // suppress_duplicates' case
     const double pa = perimeter(a.corners), pb = perimeter(b.corners);
     if (!(std::max(pa, pb) < max_perimeter_ratio * std::min(pa, pb))) return false;  // NaN: false
-    return inside(a.corners, b.center) && inside(b.corners, a.center);
+    return inside_quad(a.corners, b.center) && inside_quad(b.corners, a.center);
   };
-  std::vector<bool> keep(found.size(), false);
   std::vector<std::size_t> kept;
-  for (const std::size_t i : rank) {
-    if (std::any_of(kept.begin(), kept.end(), [&](std::size_t j) { return overlap(found[i], found[j]); })) continue;
-    keep[i] = true;
-    kept.push_back(i);
-  }
+  for (const std::size_t i : rank)
+    if (std::none_of(kept.begin(), kept.end(), [&](std::size_t j) { return overlap(found[i], found[j]); }))
+      kept.push_back(i);
+  std::sort(kept.begin(), kept.end());  // input order
   std::vector<Detection> out;
-  for (std::size_t i = 0; i < found.size(); ++i)
-    if (keep[i]) out.push_back(std::move(found[i]));
+  for (const std::size_t i : kept) out.push_back(std::move(found[i]));
   return out;
 }
 

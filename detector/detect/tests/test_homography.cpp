@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include <Eigen/Dense>
@@ -52,6 +53,27 @@ TEST(Homography, DegenerateInputIsRefused) {
   EXPECT_FALSE(tag_homography(same).has_value());
   std::vector<Eigen::Vector2d> three(3, Eigen::Vector2d(1, 2));
   EXPECT_FALSE(homography_dlt(three, three).has_value());
+}
+
+// inside_quad: either winding, a point on a side inside; a NaN anywhere or corners on one line: never
+// inside (a NaN compares false, which read as inside before session 31).
+TEST(Homography, InsideQuad) {
+  const Corners cw{Eigen::Vector2d(0, 0), Eigen::Vector2d(10, 0), Eigen::Vector2d(10, 10), Eigen::Vector2d(0, 10)};
+  const Corners ccw{cw[0], cw[3], cw[2], cw[1]};
+  for (const Corners& q : {cw, ccw}) {
+    EXPECT_TRUE(inside_quad(q, Eigen::Vector2d(5, 5)));
+    EXPECT_TRUE(inside_quad(q, Eigen::Vector2d(0.5, 9.5)));
+    EXPECT_FALSE(inside_quad(q, Eigen::Vector2d(11, 5)));
+    EXPECT_FALSE(inside_quad(q, Eigen::Vector2d(5, -0.5)));
+    EXPECT_FALSE(inside_quad(q, Eigen::Vector2d(std::nan(""), 5)));
+  }
+  EXPECT_TRUE(inside_quad(cw, Eigen::Vector2d(10, 5)));  // on a side (of this winding)
+  Corners with_nan = cw;
+  with_nan[2].x() = std::nan("");
+  EXPECT_FALSE(inside_quad(with_nan, Eigen::Vector2d(5, 5)));
+  const Corners line{Eigen::Vector2d(-5, 0), Eigen::Vector2d(0, 0), Eigen::Vector2d(5, 0), Eigen::Vector2d(0, 0)};
+  EXPECT_FALSE(inside_quad(line, Eigen::Vector2d(0, 0)));
+  EXPECT_FALSE(inside_quad(line, Eigen::Vector2d(2, 0)));
 }
 
 }  // namespace test_homography
