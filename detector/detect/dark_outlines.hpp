@@ -64,7 +64,8 @@ struct DarkOutlineScratch {
 // The quads of the joined outlines of `groups` (found with `components` on `img`), fitted with `fit`,
 // whose centre lies inside none of `covered`, each refined on `img` with `refine` (a quad whose
 // refinement fails is dropped; with opt.check_before_refining and `check` enabled, one the border
-// check refuses is left as fitted, for the decoder's pre-filter to refuse by the same test). Throws std::invalid_argument when components and img differ in size.
+// check refuses is left as fitted, for the decoder's pre-filter to refuse by the same test). Throws
+// std::invalid_argument when components and img differ in size.
 std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Components& components, const ImageF& img,
                                      std::span<const Corners> covered, const QuadFitOptions& fit,
                                      const EdgeRefineOptions& refine, const DarkOutlineOptions& opt,

@@ -191,8 +191,9 @@ struct DetectorOptions {
   PayloadAreaOptions payload_area;  // for kArea; its min_contrast is ignored (payload.min_contrast is used)
   // Beyond the paper: drop detections whose decision_margin (payload_decode.hpp) is below this, in
   // [0, 1]; 0 keeps every one (the paper's detector). Applied to the final detections, after
-  // duplicates are merged (and overlaps, suppress_overlaps below), so a run at 0 whose detections are then filtered at m gives exactly what a
-  // run at m gives (how `tagbench falsepos margin` scores thresholds from one run). What each
+  // duplicates are merged (and overlaps, suppress_overlaps below), so a run at 0 whose detections are
+  // then filtered at m gives exactly what a run at m gives (how `tagbench falsepos margin` scores
+  // thresholds from one run). What each
   // threshold saves in false detections and costs in real ones: results/margin_tradeoff.csv (README).
   double min_decision_margin = 0;
   // Beyond the paper: of two detections of different ids over the same quad, only the one with fewer
