@@ -34,7 +34,8 @@ scored (`tagbench score DIR DETECTIONS`). Rendering shares the sweeps' frame cac
                         then trial); a frame POV-Ray fails to render is left out (listed in "failed")
   DIR/truth.json        {"format": "tagbench-dataset 1", "experiment", "settings",
                          "camera": {width, height, fx, fy, cx, cy, distortion [k1,k2,p1,p2,k3]},
-                         "conventions": {pixel_centres "integer", corner_order "tl-tr-br-bl", ...},
+                         "conventions": {pixel_centres "integer", corner_order "tl-tr-br-bl",
+                                         intensity_gamma 1 (the frames are linear), ...},
                          "frames": [{file, index, condition, strength, step, step_unit, trial, seed,
                                      family, id, tag_size_m, R [[3] x3], t [3], corners [[x,y] x4],
                                      black_square_px, distortion (this frame's lens, or null),

@@ -11,6 +11,7 @@
 //       "max_hamming": 1,                     // bits corrected at most
 //       "min_decision_margin": 0,             // detections read with a smaller margin are dropped
 //       "half_res": false,                    // segmentation at half resolution
+//       "input_gamma": 2.2,                   // the images' encoding gamma (--input-gamma)
 //       "camera": [fx, fy, cx, cy] | null,    // pixels
 //       "distortion": [k1, k2, p1, p2, k3] | null,
 //       "tag_size": s | null                  // metres, edge of the black square
@@ -49,7 +50,7 @@
 // CSV output (--format csv): a header row, then one row per detection:
 //   input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,
 //   tx,ty,tz,r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,
-//   min_decision_margin
+//   min_decision_margin,input_gamma
 // (pose columns empty without --camera; fields quoted as RFC 4180 when needed).
 //
 // Decisions: a 1-pixel (or any tiny) image is valid input and has no detections; a missing,
@@ -357,6 +358,7 @@ int cmd_detect(const Words& words) {
                        {"distortion"},
                        {"tag-size"},
                        {"half-res", false},
+                       {"input-gamma"},
                        {"profile"},
                        {"format"},
                        {"draw"},

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 const char* const kHelp = R"(usage: tagbench detect IMAGE_OR_DIR_OR_VIDEO... [--family F]... [--max-hamming K]
                        [--min-margin M] [--camera fx,fy,cx,cy] [--distortion k1,k2,p1,p2,k3] [--tag-size M] [--half-res]
                        [--profile default|thorough|paper] [--format json|jsonl|csv] [--draw OUT] [--debug-dir DIR]
-                       [--threads T] [--explain X,Y[,FAMILY:ID]]...
+                       [--input-gamma G] [--threads T] [--explain X,Y[,FAMILY:ID]]...
 
 Detects tags in every input and prints the detections on stdout, in input order.
 Inputs: image files (png, jpg, pgm, tiff, ...; colour and 16-bit are converted to gray), directories
@@ -43,6 +43,11 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        OpenCV lens distortion; needs --camera (corners are undistorted for the pose)
   --tag-size M         edge of the black square in metres (> 0); needs --camera
   --half-res           find quads at half resolution (the paper's faster option)
+  --input-gamma G      the images' encoding gamma, 0.1..10 (value = linear^(1/G); default 2.2: camera
+                       JPEGs and PNGs, sRGB-like); 1 for linear images (renders written with gamma 1,
+                       such as the ray-traced frames of `tagbench dataset export`, raw sensor data).
+                       The default profile locates a found tag's sides on linear intensities; which
+                       tags are found does not depend on it (--profile paper ignores it)
   --format json|jsonl|csv
                        output format (default json; jsonl: a line per image, below)
   --draw OUT           draw the detections like the paper's Fig. 1 (outline, printed top-left corner
@@ -91,6 +96,7 @@ an error for the input named (interrupted) is added, the output is closed whole;
 JSON output (one document for the whole run):
   {"tool": "tagbench detect",
    "options": {"families": [names], "profile": "default", "thorough" or "paper", "max_hamming": K, "min_decision_margin": M, "half_res": bool,
+               "input_gamma": G,
                "camera": [fx,fy,cx,cy] or null, "distortion": [k1,k2,p1,p2,k3] or null,
                "tag_size": metres or null},
    "images": [{"input": path or "video#frameN", "frame": N (videos only), "width": W, "height": H,
@@ -121,7 +127,8 @@ and for an input that cannot be read {"image": path, "error": message} (also on 
 
 CSV output: a header row, then one row per detection:
   input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,
-  r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,min_decision_margin
+  r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,min_decision_margin,
+  input_gamma
 (pose columns empty without --camera).
 )";
 
@@ -168,6 +175,7 @@ Settings parse_settings(const Args& a) {
   }
   if (const auto m = a.get("min-margin")) s.det.min_decision_margin = parse_double("--min-margin", *m, 0, 1);
   s.det.half_resolution = a.flag("half-res");
+  if (const auto g = a.get("input-gamma")) s.det.input_gamma = parse_double("--input-gamma", *g, 0.1, 10);
 
   std::optional<double> tag_size;
   if (const auto t = a.get("tag-size")) {

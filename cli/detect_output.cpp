@@ -26,7 +26,7 @@ void Sink::begin() {
   if (s_.jsonl) return;  // lines only
   if (s_.csv) {
     put("input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,"
-        "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,min_decision_margin\n");
+        "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,min_decision_margin,input_gamma\n");
     return;
   }
   const DetectorOptions& o = det_.options();
@@ -36,7 +36,8 @@ void Sink::begin() {
   h += "], \"profile\": " + json_string(s_.profile) +
        ", \"max_hamming\": " + std::to_string(o.max_hamming) +
        ", \"min_decision_margin\": " + json_number(o.min_decision_margin) +
-       ", \"half_res\": " + (o.half_resolution ? "true" : "false") + ", \"camera\": ";
+       ", \"half_res\": " + (o.half_resolution ? "true" : "false") +
+       ", \"input_gamma\": " + json_number(o.input_gamma) + ", \"camera\": ";
   if (o.camera)
     h += std::string("[") + json_number(o.camera->fx) + ", " + json_number(o.camera->fy) + ", " + json_number(o.camera->cx) +
          ", " + json_number(o.camera->cy) + "]";
@@ -186,6 +187,7 @@ void Sink::emit_csv(const Outcome& o) {
     f.push_back(std::to_string(det_.options().max_hamming));
     f.push_back(det_.options().half_resolution ? "1" : "0");
     f.push_back(csv_num(det_.options().min_decision_margin));
+    f.push_back(csv_num(det_.options().input_gamma));
     std::string line;
     for (std::size_t i = 0; i < f.size(); ++i) {
       if (i) line += ',';

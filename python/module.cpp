@@ -51,7 +51,7 @@ DetectorOptions profile_options(const std::string& profile) {
 DetectorOptions make_options(const std::vector<std::string>& families, const std::optional<int>& max_hamming, double min_decision_margin,
                              const std::optional<std::array<double, 4>>& camera,
                              const std::optional<std::array<double, 5>>& distortion, const std::optional<double>& tag_size,
-                             bool half_resolution, const std::string& profile) {
+                             bool half_resolution, const std::string& profile, double input_gamma) {
   DetectorOptions o = profile_options(profile);
   o.families = families;
   if (max_hamming) {  // as `tagbench detect --max-hamming K`: K bits for every family
@@ -66,6 +66,7 @@ DetectorOptions make_options(const std::vector<std::string>& families, const std
   o.distortion = distortion;
   if (tag_size) o.tag_size = *tag_size;
   o.half_resolution = half_resolution;
+  o.input_gamma = input_gamma;
   return o;  // Detector's constructor validates (DetectorOptions::validate)
 }
 
@@ -131,7 +132,7 @@ PYBIND11_MODULE(tagbench, m) {
 
   py::class_<Detector>(m, "Detector",
                        "Detector(families=['36h11'], max_hamming=None, min_decision_margin=0, camera=None, "
-                       "distortion=None, tag_size=None, half_resolution=False, profile='default'). profile: 'default' "
+                       "distortion=None, tag_size=None, half_resolution=False, profile='default', input_gamma=2.2). profile: 'default' "
                        "(DetectorOptions{}), 'thorough' (DetectorOptions::thorough(): the default with its quads from "
                        "straight edges found at full resolution and a coarse pass, more of the small faint tags for "
                        "about twice the time) or 'paper' "
@@ -140,17 +141,20 @@ PYBIND11_MODULE(tagbench, m) {
                        "K = K bits for every family. The "
                        "other keywords are set on top of the profile's options. camera: "
                        "(fx, fy, cx, cy) pixels; tag_size: the black square's edge, metres (poses need both); "
-                       "distortion: OpenCV's (k1, k2, p1, p2, k3). ValueError names a bad option.")
+                       "distortion: OpenCV's (k1, k2, p1, p2, k3). input_gamma: the images' encoding gamma (2.2: "
+                       "camera JPEGs/PNGs, sRGB-like; 1: linear images such as renders or raw data), used to "
+                       "place a found tag's sides on linear intensities. ValueError names a bad option.")
       .def(py::init([](const std::vector<std::string>& families, const std::optional<int>& max_hamming,
                        double min_decision_margin, const std::optional<std::array<double, 4>>& camera,
                        const std::optional<std::array<double, 5>>& distortion, const std::optional<double>& tag_size,
-                       bool half_resolution, const std::string& profile) {
+                       bool half_resolution, const std::string& profile, double input_gamma) {
              return Detector(make_options(families, max_hamming, min_decision_margin, camera, distortion, tag_size,
-                                          half_resolution, profile));
+                                          half_resolution, profile, input_gamma));
            }),
            py::kw_only(), py::arg("families") = std::vector<std::string>{"36h11"}, py::arg("max_hamming") = py::none(),
            py::arg("min_decision_margin") = 0.0, py::arg("camera") = py::none(), py::arg("distortion") = py::none(),
-           py::arg("tag_size") = py::none(), py::arg("half_resolution") = false, py::arg("profile") = "default")
+           py::arg("tag_size") = py::none(), py::arg("half_resolution") = false, py::arg("profile") = "default",
+           py::arg("input_gamma") = 2.2)
       .def(
           "detect",
           [](const Detector& detector, const py::array& image) {

@@ -300,7 +300,39 @@ def realistic_family_table(d, family):
     return _realistic_rates(os.path.join(d, "realistic_" + family))
 
 
+def realistic_corners(d):
+    """Corner accuracy on the realistic sets (36h11 seeds 1 and 2, 16h5, 25h9; d/realistic*/realistic.csv):
+    per set, the median and 90th percentile of the corner RMS error (px) of our default profile and of
+    each peer, over the tags both found with the right id: a like-for-like comparison, as each finds
+    different tags."""
+    sets = [("36h11, seed 1", "realistic.csv"), ("36h11, seed 2", os.path.join("realistic_seed2", "realistic.csv")),
+            ("16h5", os.path.join("realistic_16h5", "realistic.csv")), ("25h9", os.path.join("realistic_25h9", "realistic.csv"))]
+    peers = ["libapriltag-d1", "libapriltag-d2", "aruco"]
+    body = []
+    for label, f in sets:
+        err = {}
+        for r in rows(os.path.join(d, f)):
+            if r["detected"] == "1" and r["wrong_id"] == "0" and r["corner_rms_px"]:
+                err.setdefault(r["detector"], {})[(r["frame"], r["tag"])] = float(r["corner_rms_px"])
+        ours = err.get("tagbench", {})
+        row = [label]
+        for peer in peers:
+            both = sorted(set(ours) & set(err.get(peer, {})))
+            if not both:
+                row.append("-")
+                continue
+            a = sorted(ours[k] for k in both)
+            b = sorted(err[peer][k] for k in both)
+            med = lambda v: (v[(len(v) - 1) // 2] + v[len(v) // 2]) / 2
+            p90 = lambda v: v[min(len(v) - 1, int(0.9 * len(v)))]
+            row.append(f"{len(both)}: {med(a):.3f} / {p90(a):.3f} vs {med(b):.3f} / {p90(b):.3f}")
+        body.append(row)
+    return table(["Set (200 frames)"] + [f"tags both found: ours vs {RT_NAMES.get(p, p)}, median / p90 px" for p in peers],
+                 body)
+
+
 BLOCKS = {"pending": pending,
+          "realistic_corners": realistic_corners,
           "realistic_seed2_table": realistic_seed2_table,
           "realistic_16h5_table": lambda d: realistic_family_table(d, "16h5"),
           "realistic_25h9_table": lambda d: realistic_family_table(d, "25h9"),

@@ -6,7 +6,7 @@
 // truth.json ("format": "tagbench-dataset 1"):
 //   experiment, settings (scene, family, tag_size_m, seed, trials, steps, distance_m, conditions),
 //   camera {width, height, fx, fy, cx, cy, distortion [k1,k2,p1,p2,k3] (OpenCV's model; zeros: pinhole)},
-//   conventions {pixel_centres "integer", corner_order "tl-tr-br-bl", camera_frame, tag_frame, pose, words},
+//   conventions {pixel_centres "integer", corner_order "tl-tr-br-bl", tag_frame_axes, intensity_gamma 1 (linear), words},
 //   frames [{file, index, condition, strength, step, step_unit, trial, seed, family, id, tag_size_m,
 //            R [[3] x3], t [3] (tag -> camera, metres), corners [[x,y] x4], black_square_px,
 //            distortion (this frame's [k1..k3] when it differs from the camera's, else null),

@@ -106,12 +106,13 @@ std::string truth_json(const SweepSettings& s, const std::vector<SweepFrame>& fr
        json_string("pinhole; distortion is OpenCV's k1, k2, p1, p2, k3 (a frame's own \"distortion\" overrides it)") +
        ", \"renderer\": \"POV-Ray 3.7\"},\n";
   j += "  \"conventions\": {\"pixel_centres\": \"integer\", \"corner_order\": \"tl-tr-br-bl\", \"tag_frame_axes\": "
-       "\"x,y,z\",\n    \"words\": " +
+       "\"x,y,z\", \"intensity_gamma\": 1,\n    \"words\": " +
        json_string("pixel centres at integer coordinates (the top-left pixel's centre is (0, 0)); corners: the "
                    "black square's outer corners, top-left, top-right, bottom-right, bottom-left of the printed tag; "
                    "camera frame: x right, y down, z forward; tag frame: origin at the tag centre, x toward the "
                    "printed right edge, y toward the printed bottom edge, z into the tag; X_camera = R X_tag + t, "
-                   "metres; tag_size_m: the black square's edge") +
+                   "metres; tag_size_m: the black square's edge; intensities are linear (intensity_gamma 1: POV-Ray's "
+                   "File_Gamma=1.0), not gamma-encoded as a camera's JPEGs are") +
        "},\n";
   j += "  \"frames\": [";
   std::set<std::size_t> bad;

@@ -62,6 +62,7 @@ class Ours final : public Comparator {
     DetectorOptions o = profile;
     o.families = {s.family};
     o.half_resolution = half;
+    o.input_gamma = s.input_gamma;
     if (wants_pose(s)) {
       o.camera = *s.camera;
       o.tag_size = s.tag_size;

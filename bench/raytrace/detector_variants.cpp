@@ -67,6 +67,9 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "photo_band") o.photometric.band_px = x;
     else if (k == "photo_margin") o.photometric.margin_cells = x;
     else if (k == "photo_huber") o.photometric.huber = x;
+    else if (k == "input_gamma") o.input_gamma = x;
+    else if (k == "lincorners") o.linear_corners.enabled = x != 0;
+    else if (k == "lin_shift") o.linear_corners.max_corner_shift_px = x;
     else if (k == "photo_dots") o.photometric.column_dot_sums = x != 0;
     else if (k == "pguard") o.photometric_guard.enabled = x != 0;
     else if (k == "pguard_kink") o.photometric_guard.max_kink_px = x;

@@ -25,6 +25,7 @@ DetectorSet make_detectors(const SweepSettings& s, std::optional<std::array<doub
   setup.camera = render_camera();
   setup.tag_size = *s.tag_size;
   setup.distortion = distortion;
+  setup.input_gamma = 1;  // POV-Ray's frames are linear (File_Gamma=1.0, render.hpp)
   DetectorSet set;
   for (const auto& name : s.detectors)
     if (!find_external(s, name)) set.push_back(make_comparator(name, setup));  // the built-in ones, in order

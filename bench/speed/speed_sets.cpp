@@ -72,6 +72,7 @@ ImageSet raytrace_cache_set(const fs::path& cache_dir) {
   std::sort(files->begin(), files->end());
   ImageSet s;
   s.name = "raytrace";
+  s.input_gamma = 1;  // POV-Ray's frames are linear
   s.source = "ray-traced frames in " + cache_dir.string();
   s.size = files->size();
   s.image = [files](std::size_t i) {
@@ -110,6 +111,7 @@ ImageSet scene_set(const std::vector<std::pair<int, int>>& sizes, int per_size, 
   if (per_size < 1) throw std::invalid_argument("scenes per size must be >= 1");
   ImageSet s;
   s.name = "scenes";
+  s.input_gamma = 1;  // drawn linear (bench/scenes.hpp)
   s.source = "make_scene(6 tags of " + family + ", seeds 1.." + std::to_string(per_size) + ")";
   s.size = sizes.size() * static_cast<std::size_t>(per_size);
   s.image = [sizes, per_size, family](std::size_t i) {
@@ -128,6 +130,7 @@ std::vector<SpeedRow> time_image_set(const ImageSet& set, const SpeedOptions& op
   std::vector<std::unique_ptr<Comparator>> dets;
   ComparatorSetup setup;
   setup.family = options.family;
+  setup.input_gamma = set.input_gamma;
   for (const auto& name : options.detectors) dets.push_back(make_comparator(name, setup));
 
   std::vector<SpeedRow> rows;

@@ -35,6 +35,7 @@ struct ImageSet {
   std::string source;  // where the images came from (settings column of the CSV)
   std::size_t size = 0;
   std::function<SpeedImage(std::size_t)> image;  // index 0..size-1
+  double input_gamma = 2.2;  // the images' encoding (ComparatorSetup::input_gamma): 1 for renders
 };
 
 // Every image of a corpus folder (its manifest.tsv, else every image file under it; corpus_tools).

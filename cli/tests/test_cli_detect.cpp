@@ -264,7 +264,7 @@ TEST(CliDetect, FamilyIdAndCornersInJsonAndCsv) {
   ASSERT_EQ(c.code, 0) << c.err;
   EXPECT_EQ(c.out.rfind("input,family,id,hamming,rotation,decision_margin,x0,y0,x1,y1,x2,y2,x3,y3,cx,cy,tx,ty,tz,"
                         "r00,r01,r02,r10,r11,r12,r20,r21,r22,reprojection_rms_px,max_hamming,half_res,"
-                        "min_decision_margin\n",
+                        "min_decision_margin,input_gamma\n",
                         0),
             0u);
   const auto rows = parse_csv(c.out);

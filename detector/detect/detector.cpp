@@ -9,6 +9,7 @@
 #include "detect/bent_decode.hpp"
 #include "detect/decode_quads.hpp"
 #include "detect/edge_refine.hpp"
+#include "detect/linear_corners.hpp"
 #include "detect/estimate_poses.hpp"
 #include "detect/find_quads_in_image.hpp"
 #include "detect/homography.hpp"
@@ -325,11 +326,20 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   if (opt_.suppress_overlaps) out = suppress_overlaps(std::move(out));
   drop_below_margin(out, opt_.min_decision_margin);
+  if (opt_.linear_corners.enabled)
+    refine_corners_linear(out, gray, families_, opt_.input_gamma, opt_.threshold_quads.refine, opt_.linear_corners);
   std::vector<HiddenSides> hidden;
-  if (opt_.occlusion_refit) hidden = refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);
-  if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
-    refine_detections_photometric_guarded(out, gray, families_, opt_.photometric, opt_.photometric_guard, hidden,
+  if (opt_.occlusion_refit) {
+    OcclusionRefitOptions occlusion = opt_.occlusion;
+    occlusion.gamma = opt_.input_gamma;
+    hidden = refit_occluded(out, gray, families_, occlusion, trace ? &trace->withdrawn : nullptr);
+  }
+  if (opt_.photometric.enabled && !opt_.distortion) {  // a homography cannot fit a distorted tag
+    PhotometricRefineOptions photometric = opt_.photometric;
+    photometric.gamma = opt_.input_gamma;
+    refine_detections_photometric_guarded(out, gray, families_, photometric, opt_.photometric_guard, hidden,
                                           &workspace.impl().photometric);
+  }
   tm.decode = ms_since(t);
 
   // 7. Poses.

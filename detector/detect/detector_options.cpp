@@ -174,6 +174,7 @@ DetectorOptions DetectorOptions::paper() {
   o.soft_decode.enabled = false;
   o.threshold_quads.low_contrast.enabled = false;
   o.suppress_overlaps = false;
+  o.linear_corners.enabled = false;
   return o;
 }
 
@@ -224,6 +225,8 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   within("min_decision_margin", min_decision_margin, 0, 1);
   finite_at_least("seg_sigma", seg_sigma, 0);
   finite_at_least("decode_sigma", decode_sigma, 0);
+  within("input_gamma", input_gamma, 0.1, 10);
+  finite_above("linear_corners.max_corner_shift_px", linear_corners.max_corner_shift_px, 0);
 
   finite_at_least("segmentation.min_mag", segmentation.min_mag, 0);
   if (!(std::isfinite(segmentation.max_edge_cost) && segmentation.max_edge_cost > 0 &&

@@ -22,6 +22,7 @@
 #include "printed_square.hpp"
 #include "ring_quads.hpp"
 #include "line_quads.hpp"
+#include "linear_corners.hpp"
 #include "coarse_pass.hpp"
 #include "dark_outlines.hpp"
 #include "photometric_refine.hpp"
@@ -204,6 +205,16 @@ struct DetectorOptions {
   // Beyond the paper: after decoding, check each side against the decoded tag (black ring inside,
   // white ring outside), re-fit a partly occluded side from its visible part, withdraw the detection
   // when a side cannot be fixed (occlusion_refit.hpp). Default profile on; paper(): off.
+  // The encoding gamma of the input's intensities (value = linear^(1 / input_gamma)): 2.2 for
+  // gamma-encoded images (sRGB: camera JPEGs and PNGs, most 8-bit images), 1 for linear ones
+  // (renders written with gamma 1, as the ray-traced sweeps' frames are; raw sensor data). Used where
+  // an edge's position is measured on a decoded tag (linear_corners, the occlusion refit, the
+  // photometric refinement); which tags are found does not depend on it. > 0.
+  double input_gamma = 2.2;
+  // Beyond the paper: the decoded tags' sides located again on linear intensities (input_gamma;
+  // linear_corners.hpp), after min_decision_margin and before the occlusion refit. Default profile
+  // on; paper(): off.
+  LinearCornerOptions linear_corners;
   bool occlusion_refit = true;
   OcclusionRefitOptions occlusion;
   // Beyond the paper: threshold quads up to 64 px that did not decode are looked at again, their

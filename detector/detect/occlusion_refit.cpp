@@ -8,12 +8,17 @@
 namespace tagbench {
 namespace {
 
-float bilinear(const ImageF& img, double x, double y) {  // pixel centres at integers, clamped at the border
+// Pixel centres at integers, clamped at the border; with gamma != 1 each pixel is raised to it before
+// it is interpolated (an encoded pixel linearised, as linear_corners.hpp does).
+float bilinear(const ImageF& img, double x, double y, double gamma = 1.0) {
   const double fx = std::floor(x), fy = std::floor(y);
   const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
   const float ax = static_cast<float>(x - fx), ay = static_cast<float>(y - fy);
-  const float a = img.at_clamped(x0, y0), b = img.at_clamped(x0 + 1, y0);
-  const float c = img.at_clamped(x0, y0 + 1), d = img.at_clamped(x0 + 1, y0 + 1);
+  const auto at = [&](int u, int v) {
+    const float p = img.at_clamped(u, v);
+    return gamma == 1.0 ? p : static_cast<float>(std::pow(std::max(0.0f, p), gamma));
+  };
+  const float a = at(x0, y0), b = at(x0 + 1, y0), c = at(x0, y0 + 1), d = at(x0 + 1, y0 + 1);
   return (a + (b - a) * ax) * (1 - ay) + (c + (d - c) * ax) * ay;
 }
 
@@ -120,7 +125,7 @@ OcclusionRefitResult refit_occluded_sides(const ImageF& img, const Corners& corn
         double w = 0, ws = 0;
         for (double o = -range; o <= range + 1e-9; o += step) {
           const Eigen::Vector2d a = p + (o + h) * s.n, b = p + (o - h) * s.n;
-          const double d = bilinear(img, a.x(), a.y()) - bilinear(img, b.x(), b.y());
+          const double d = bilinear(img, a.x(), a.y(), opt.gamma) - bilinear(img, b.x(), b.y(), opt.gamma);
           if (d <= 0) continue;
           w += d * d, ws += d * d * o;
         }

@@ -41,6 +41,10 @@ struct OcclusionRefitOptions {
   int iterations = 2;
   // Cells narrower than this (px, across any side) are too thin to judge: the detection is kept.
   double min_cell_px = 2.5;
+  // The step's locator raises each pixel to this power before interpolating (the input's encoding
+  // gamma, DetectorOptions::input_gamma; linear_corners.hpp): a re-fitted side is then placed as the
+  // decoded tags' other sides are. The agreement test reads the image as it is.
+  double gamma = 1.0;
 };
 
 // What refit_occluded_sides did (for tests and traces).

@@ -3,7 +3,7 @@
 payload readers' ceiling from realistic_ceiling_summary.csv when the run had --ceiling, and nothing
 when it did not, and the thorough profile's rate beside the default's when it ran; update_readme.py's table of the held-out seed (results/realistic_seed2/) carries the
 ceiling as a share of each bin's tags, and its tables of other families give no rate for a bin of false
-detections only.
+detections only; the corner table compares two detectors on the tags both found right.
 Usage: test_readme_targets.py SOURCE_DIR (run by ctest)."""
 import os
 import sys
@@ -94,6 +94,25 @@ class FamilyTables(unittest.TestCase):
             self.assertTrue(lines[2].startswith("| 20-24 px | 10 | 80 [60-90] | 50 [30-70], 1 wrong id, 2 false |"),
                             lines[2])
             self.assertEqual(lines[4], "| <12 px | 0 | -, 3 false | - |")  # no libapriltag row there: "-"
+
+
+class CornerTable(unittest.TestCase):
+    def test_each_pair_is_compared_on_the_tags_both_found_with_the_right_id(self):
+        head = "frame,tag,detector,detected,wrong_id,corner_rms_px\n"
+        # Tag (0,0): both found; (0,1): ours only; (0,2): the peer's is a wrong id; (1,0): both found.
+        csv = head + ("0,0,tagbench,1,0,0.1\n0,0,libapriltag-d1,1,0,0.3\n"
+                      "0,1,tagbench,1,0,5.0\n0,1,libapriltag-d1,0,0,\n"
+                      "0,2,tagbench,1,0,7.0\n0,2,libapriltag-d1,1,1,0.2\n"
+                      "1,0,tagbench,1,0,0.2\n1,0,libapriltag-d1,1,0,0.5\n")
+        with tempfile.TemporaryDirectory() as d:
+            write(d, "realistic.csv", csv)
+            for sub in ("realistic_seed2", "realistic_16h5", "realistic_25h9"):
+                os.mkdir(os.path.join(d, sub))
+                write(d, sub + "/realistic.csv", head)
+            lines = update_readme.realistic_corners(d).splitlines()
+            self.assertEqual(len(lines), 6)  # header, rule, four sets
+            self.assertTrue(lines[2].startswith("| 36h11, seed 1 | 2: 0.150 / 0.200 vs 0.400 / 0.500 | - | - |"), lines[2])
+            self.assertEqual(lines[3], "| 36h11, seed 2 | - | - | - |")
 
 
 if __name__ == "__main__":

@@ -65,7 +65,7 @@ std::vector<std::string> rows_of(const std::string& csv, const std::string& dete
 TEST(CliExternal, OurDetectorAsAnExternalOneGivesTheBuiltInRows) {
   if (!tagbench::bench::test::have_povray()) GTEST_SKIP() << "povray not installed";
   tagbench::testing::ScratchDir dir("tagbench_cli_external");
-  const std::string ours = std::string(TAGBENCH_BIN) + " detect - --format jsonl --family 36h11 --camera 400,400,199.5,199.5 --tag-size 0.166";
+  const std::string ours = std::string(TAGBENCH_BIN) + " detect - --format jsonl --family 36h11 --camera 400,400,199.5,199.5 --tag-size 0.166 --input-gamma 1";
   const std::string list = "tagbench,tagbench-half,external:mine-full=" + ours + ",external:mine-half=" + ours + " --half-res";
   const CommandResult r = run_tagbench(sweep() + " --detectors " + shell_quote(list) + " --out " + (dir / "o").string(), dir.path());
   ASSERT_EQ(r.code, 0) << r.err;
@@ -82,7 +82,7 @@ TEST(CliExternal, OurDetectorAsAnExternalOneGivesTheBuiltInRowsOnTheSixdofSweep)
   tagbench::testing::ScratchDir dir("tagbench_cli_external");
   const std::string ours = std::string(TAGBENCH_BIN) +
                            " detect - --format jsonl --family 36h11 --camera 400,400,199.5,199.5 --tag-size 0.166"
-                           " --distortion -0.2,0.05,0.001,-0.0005,0";
+                           " --distortion -0.2,0.05,0.001,-0.0005,0 --input-gamma 1";
   const std::string list = "tagbench,tagbench-half,external:mine-full=" + ours + ",external:mine-half=" + ours + " --half-res";
   const CommandResult r = run_tagbench("raytrace sixdof --frames 5 --distance-range 0.5,3 --processes 1 --cache " +
                                            tagbench::bench::test::shared_cache().string() + " --detectors " +

@@ -42,6 +42,7 @@ ComparatorSetup setup(const std::string& family, std::optional<CameraIntrinsics>
   s.family = family;
   s.camera = camera;
   s.tag_size = tag_size;
+  s.input_gamma = 1;  // POV-Ray's frames are linear (File_Gamma=1.0)
   return s;
 }
 

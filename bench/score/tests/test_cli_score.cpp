@@ -63,7 +63,7 @@ void export_detect_score_equals_the_sweep(const std::string& options, const std:
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string rt_rows = slurp(dir / "rt" / (stem + ".csv"));
   for (const auto& [name, extra] : {std::pair<std::string, std::string>{"tagbench", ""}, {"tagbench-half", " --half-res"}}) {
-    r = run_tagbench("detect " + ds.string() + " --format jsonl --family 36h11 " + camera + extra + " --threads 1",
+    r = run_tagbench("detect " + ds.string() + " --format jsonl --family 36h11 --input-gamma 1 " + camera + extra + " --threads 1",
                      dir.path());
     ASSERT_EQ(r.code, 0) << r.err;
     const fs::path lines = dir / (name + ".jsonl");

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "detect/blur.hpp"
 #include "detect/occlusion_refit.hpp"
 #include "synthetic_occluded.hpp"
 
@@ -36,6 +39,25 @@ TEST(OcclusionRefit, SideFittedToTheOccluderIsRefittedFromItsVisibleParts) {
     EXPECT_GE(r.sides_refitted, 1) << fraction;
     EXPECT_LT(max_error(*r.corners, kTruth), 0.5) << fraction;
   }
+}
+
+// Blurred and gamma-encoded as a camera stores it: the side re-fitted from its visible part is placed
+// on linear intensities with the detector's input gamma, inside the truth without it.
+TEST(OcclusionRefit, RefittedSideIsLocatedOnLinearIntensities) {
+  ImageF img = gaussian_blur(synth::occluded_tag(kTruth, 0.5, 200, 190), 1.5);
+  for (auto& v : img.data) v = std::pow(v, 1.0f / 2.2f);
+  Corners c = kTruth;
+  const Eigen::Vector2d n = (kTruth[3] - kTruth[0]).normalized();
+  c[2] += 1.5 * n, c[3] += 1.5 * n;
+  OcclusionRefitOptions lin;
+  lin.gamma = 2.2;
+  const auto a = refit_occluded_sides(img, c, 8), b = refit_occluded_sides(img, c, 8, lin);
+  ASSERT_TRUE(a.corners && b.corners);
+  ASSERT_GE(b.sides_refitted, 1);
+  // The bottom side's offset from the truth along its outward normal: inward (negative) without gamma.
+  const auto offset = [&](const Corners& r) { return 0.5 * ((r[2] - kTruth[2]).dot(n) + (r[3] - kTruth[3]).dot(n)); };
+  EXPECT_LT(offset(*a.corners), -0.1);
+  EXPECT_LT(std::abs(offset(*b.corners)), 0.5 * std::abs(offset(*a.corners)));
 }
 
 TEST(OcclusionRefit, WholeSideHiddenIsWithdrawn) {

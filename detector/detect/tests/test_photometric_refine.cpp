@@ -42,6 +42,24 @@ TEST(PhotometricRefine, BlurredTagCornersComeBackToTheTruth) {
   }
 }
 
+// A tag blurred and then gamma-encoded as a camera stores it: fitted on intensities linearised with
+// the encoding's gamma the corners come back; fitted as they are, the lopsided steps shrink the square.
+TEST(PhotometricRefine, GammaEncodedTagIsFittedOnLinearisedIntensities) {
+  const TagFamily& f = builtin_family("36h11");
+  const Corners truth = synth::square_tag_corners(50.3, 48.6, 40, 0.3);
+  ImageF img = gaussian_blur(synth::render_tag(100, 100, tag_cells(f, 9), synth::homography_for(truth), 0.5f), 0.9);
+  for (auto& v : img.data) v = std::pow(v, 1.0f / 2.2f);
+  PhotometricRefineOptions lin = on();
+  lin.gamma = 2.2;
+  const auto a = refine_corners_photometric(img, tag_cells(f, 9), truth, on());
+  const auto b = refine_corners_photometric(img, tag_cells(f, 9), truth, lin);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_LT(corner_rms(*b, truth), 0.03);
+  if (a) {
+    EXPECT_GT(corner_rms(*a, truth), 2 * corner_rms(*b, truth));
+  }
+}
+
 // One workspace through tags of different sizes (its buffers left longer, and holding the last
 // tag's numbers, when a smaller one follows), an occluded part left out, and a moved-from workspace:
 // the very corners a fresh call gives.

@@ -73,6 +73,10 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   EXPECT_FALSE(p.suppress_overlaps);
   EXPECT_TRUE(d.suppress_overlaps);
   EXPECT_TRUE(DetectorOptions::thorough().suppress_overlaps);
+  EXPECT_FALSE(p.linear_corners.enabled);
+  EXPECT_TRUE(d.linear_corners.enabled);
+  EXPECT_TRUE(DetectorOptions::thorough().linear_corners.enabled);
+  EXPECT_EQ(d.input_gamma, 2.2);  // camera images (sRGB-like) unless told otherwise
   p.validate();
   d.validate();
 }
