@@ -47,7 +47,7 @@ paths are read from stdin, one a line (how the experiments run an external detec
                        JPEGs and PNGs, sRGB-like); 1 for linear images (renders written with gamma 1,
                        such as the ray-traced frames of `tagbench dataset export`, raw sensor data).
                        The default profile locates a found tag's sides on linear intensities; which
-                       tags are found does not depend on it (--profile paper ignores it)
+                       tags are decoded does not depend on it (--profile paper ignores it)
   --format json|jsonl|csv
                        output format (default json; jsonl: a line per image, below)
   --draw OUT           draw the detections like the paper's Fig. 1 (outline, printed top-left corner

@@ -209,7 +209,8 @@ struct DetectorOptions {
   // gamma-encoded images (sRGB: camera JPEGs and PNGs, most 8-bit images), 1 for linear ones
   // (renders written with gamma 1, as the ray-traced sweeps' frames are; raw sensor data). Used where
   // an edge's position is measured on a decoded tag (linear_corners, the occlusion refit, the
-  // photometric refinement); which tags are found does not depend on it. > 0.
+  // photometric refinement); which tags are decoded does not depend on it (the occlusion refit, judging
+  // sides so placed, may withdraw another few). In [0.1, 10].
   double input_gamma = 2.2;
   // Beyond the paper: the decoded tags' sides located again on linear intensities (input_gamma;
   // linear_corners.hpp), after min_decision_margin and before the occlusion refit. Default profile

@@ -32,7 +32,7 @@ struct Linearise {
 
 void refine_corners_linear(std::span<Detection> detections, const ImageF& img, std::span<const TagFamily> families,
                            double gamma, const EdgeRefineOptions& refine, const LinearCornerOptions& opt) {
-  if (gamma == 1.0 || img.empty()) return;
+  if (gamma == 1.0 || !(gamma > 0 && std::isfinite(gamma)) || img.empty()) return;
   const Linearise linear(gamma);
   EdgeRefineOptions o = refine;
   o.max_corner_shift_px = opt.max_corner_shift_px;

@@ -7,9 +7,9 @@
 // end, so its steepest part, where the edge refinement puts the side (edge_refine.hpp), moves toward
 // the dark side, and a black square comes out smaller than it is. Here each decoded tag's sides are
 // re-located (edge_refine's scan) on the tag's neighbourhood with every pixel raised to `gamma`
-// (encoded -> linear) before it is interpolated, over a range set by the family's own cell. Which tags are found is decided before, on the image as it is;
-// only their corners move. A no-op when gamma is 1 (linear input: renders with POV-Ray's File_Gamma
-// 1, raw sensor data).
+// (encoded -> linear) before it is interpolated, over a range set by the family's own cell. Which
+// tags are decoded is decided before, on the image as it is; only their corners move. A no-op when
+// gamma is 1 (linear input: renders with POV-Ray's File_Gamma 1, raw sensor data).
 //
 // Units: pixels (centres at integer coordinates); corners in the Detection convention.
 #include <span>
@@ -32,7 +32,7 @@ struct LinearCornerOptions {
 // Each detection whose family is among `families`: its corners (with homography and centre) replaced
 // by those refine_quad_edges finds with `refine`'s scan (its gamma unused) and the family's cells across
 // on the linearised neighbourhood, when it succeeds within opt.max_corner_shift_px; the others left
-// alone. gamma == 1: nothing.
+// alone. gamma == 1 (or not finite and > 0): nothing.
 void refine_corners_linear(std::span<Detection> detections, const ImageF& img, std::span<const TagFamily> families,
                            double gamma, const EdgeRefineOptions& refine, const LinearCornerOptions& opt);
 

@@ -44,6 +44,10 @@ OcclusionRefitResult refit_occluded_sides(const ImageF& img, const Corners& corn
   std::array<Side, 4> sides;
   std::array<std::vector<double>, 4> ts, contrast;
   std::vector<double> all;
+  if (!(opt.gamma > 0 && std::isfinite(opt.gamma))) {  // no locator: kept as it is
+    res.corners = corners;
+    return res;
+  }
   double perimeter = 0;
   for (std::size_t i = 0; i < 4; ++i) {
     const Eigen::Vector2d a = corners[i], b = corners[(i + 1) & 3];

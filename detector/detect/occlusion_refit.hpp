@@ -43,7 +43,8 @@ struct OcclusionRefitOptions {
   double min_cell_px = 2.5;
   // The step's locator raises each pixel to this power before interpolating (the input's encoding
   // gamma, DetectorOptions::input_gamma; linear_corners.hpp): a re-fitted side is then placed as the
-  // decoded tags' other sides are. The agreement test reads the image as it is.
+  // decoded tags' other sides are. The agreement test reads the image as it is. The detector sets it
+  // from DetectorOptions::input_gamma. Not finite and > 0: the detection is kept as it is.
   double gamma = 1.0;
 };
 

@@ -62,7 +62,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   PhotometricWorkspace& ws = workspace ? *workspace : local.emplace();
   if (!ws.impl) ws.impl = std::make_unique<PhotometricWorkspace::Impl>();  // a moved-from one
   PhotometricWorkspace::Impl& w = *ws.impl;
-  if (img.empty() || cells.n < 5) return std::nullopt;
+  if (img.empty() || cells.n < 5 || !(opt.gamma > 0 && std::isfinite(opt.gamma))) return std::nullopt;
   const auto H = tag_homography(corners);
   if (!H) return std::nullopt;
   double perimeter = 0;

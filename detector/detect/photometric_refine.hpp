@@ -57,8 +57,9 @@ struct PhotometricRefineOptions {
   double huber = 0.15;               // Huber threshold, fraction of the tag's contrast (white - black)
   double min_contrast = 0.02;        // white minus black at the tag centre (intensity units) at least this
   // The pixels' intensities are raised to this power before the fit: the input's encoding gamma
-  // (DetectorOptions::input_gamma), so that the model, a blurred pattern mixed linearly, meets linear
-  // intensities. 1: the image as it is.
+  // (DetectorOptions::input_gamma, which the detector sets it from), so that the model, a blurred
+  // pattern mixed linearly, meets linear intensities. 1: the image as it is; not finite and > 0: no
+  // refinement.
   double gamma = 1.0;
   // Speed: J^T W J summed as column dot products instead of Eigen's general rank update (about a
   // third of its instructions at 15 columns; photometric_model.hpp); false keeps the rank update.

@@ -64,14 +64,17 @@ TEST(LinearCorners, GammaEncodedTagsCornersComeBackToTheTruth) {
   }
 }
 
-// Gamma 1 (linear input), a family not searched, or a move beyond the bound: the detection is left as it was.
+// Gamma 1 (linear input) or no valid gamma, a family not searched, or a move beyond the bound: the
+// detection is left as it was.
 TEST(LinearCorners, LeavesTheDetectionAloneWhenItHasNothingToDo) {
   const EncodedTag t = encoded_tag(3, 0.3);
   const Detection d0 = detection_on(t, 3);
   const std::vector<TagFamily> families = {builtin_family("36h11")};
   std::vector<Detection> d = {d0};
-  refine_corners_linear(d, t.img, families, 1.0, EdgeRefineOptions{}, LinearCornerOptions{});
-  EXPECT_EQ(d[0].corners, d0.corners);
+  for (const double gamma : {1.0, 0.0, -2.2, std::nan("")}) {  // linear input, or no gamma at all
+    refine_corners_linear(d, t.img, families, gamma, EdgeRefineOptions{}, LinearCornerOptions{});
+    EXPECT_EQ(d[0].corners, d0.corners) << gamma;
+  }
   refine_corners_linear(d, t.img, std::vector<TagFamily>{builtin_family("25h9")}, 2.2, EdgeRefineOptions{},
                         LinearCornerOptions{});
   EXPECT_EQ(d[0].corners, d0.corners);

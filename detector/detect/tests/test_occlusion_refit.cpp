@@ -58,6 +58,10 @@ TEST(OcclusionRefit, RefittedSideIsLocatedOnLinearIntensities) {
   const auto offset = [&](const Corners& r) { return 0.5 * ((r[2] - kTruth[2]).dot(n) + (r[3] - kTruth[3]).dot(n)); };
   EXPECT_LT(offset(*a.corners), -0.1);
   EXPECT_LT(std::abs(offset(*b.corners)), 0.5 * std::abs(offset(*a.corners)));
+  lin.gamma = std::nan("");  // no locator: kept as it is, never withdrawn
+  const auto e = refit_occluded_sides(img, c, 8, lin);
+  ASSERT_TRUE(e.corners);
+  EXPECT_EQ(*e.corners, c);
 }
 
 TEST(OcclusionRefit, WholeSideHiddenIsWithdrawn) {

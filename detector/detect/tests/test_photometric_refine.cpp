@@ -58,6 +58,8 @@ TEST(PhotometricRefine, GammaEncodedTagIsFittedOnLinearisedIntensities) {
   if (a) {
     EXPECT_GT(corner_rms(*a, truth), 2 * corner_rms(*b, truth));
   }
+  lin.gamma = 0;  // no valid gamma: no refinement
+  EXPECT_FALSE(refine_corners_photometric(img, tag_cells(f, 9), truth, lin).has_value());
 }
 
 // One workspace through tags of different sizes (its buffers left longer, and holding the last
