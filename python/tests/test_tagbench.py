@@ -78,11 +78,21 @@ class DetectTest(unittest.TestCase):
                               # as the command line: a pose needs both, and the camera's bounds
                               ({"tag_size": 1.0}, "tag_size: given without camera"),
                               ({"camera": (500, 500, 10, 10)}, "camera: poses need tag_size"),
-                              ({"camera": (500, 500, -1, 10), "tag_size": 0.1}, "camera.cx = -1")):
+                              ({"camera": (500, 500, -1, 10), "tag_size": 0.1}, "camera.cx = -1"),
+                              ({"input_gamma": 0}, "input_gamma")):
             with self.assertRaises(ValueError) as cm:
                 tagbench.Detector(**kwargs)
             self.assertIn(words, str(cm.exception))
             self.assertNotIn("\n", str(cm.exception))
+
+    def test_input_gamma_moves_corners_not_detections(self):
+        # A linear render read as linear (1) or as camera-encoded (2.2): the same tag, corners a little apart.
+        img = tagbench.render_tag("36h11", 3, px_per_cell=4, margin=8)
+        a = tagbench.Detector(input_gamma=1).detect(img)
+        b = tagbench.Detector(input_gamma=2.2).detect(img)
+        self.assertEqual([d.id for d in a], [3])
+        self.assertEqual([d.id for d in b], [3])
+        np.testing.assert_allclose(a[0].corners, b[0].corners, atol=0.5)
 
     def test_bits_corrected_follow_the_profile_unless_given(self):
         # None keeps the profile's bits (default: by family, at most (h - 1) / 3); K means K for every family.
