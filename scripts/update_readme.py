@@ -8,7 +8,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from readme_common import rows, table  # noqa: E402
-from readme_raytrace import (RT_NAMES, _detectors, raytrace_conditions, raytrace_external_claims,  # noqa: E402,F401
+from readme_raytrace import (RT_NAMES, _detectors, _median, raytrace_conditions, raytrace_external_claims,  # noqa: E402,F401
                              raytrace_sixdof, raytrace_summary)
 from readme_speed import loss_distance, loss_realistic, speed, speed_stages  # noqa: E402
 from readme_targets import issue17_targets  # noqa: E402
@@ -323,9 +323,8 @@ def realistic_corners(d):
                 continue
             a = sorted(ours[k] for k in both)
             b = sorted(err[peer][k] for k in both)
-            med = lambda v: (v[(len(v) - 1) // 2] + v[len(v) // 2]) / 2
             p90 = lambda v: v[min(len(v) - 1, int(0.9 * len(v)))]
-            row.append(f"{len(both)}: {med(a):.3f} / {p90(a):.3f} vs {med(b):.3f} / {p90(b):.3f}")
+            row.append(f"{len(both)}: {_median(a):.3f} / {p90(a):.3f} vs {_median(b):.3f} / {p90(b):.3f}")
         body.append(row)
     return table(["Set (200 frames)"] + [f"tags both found: ours vs {RT_NAMES.get(p, p)}, median / p90 px" for p in peers],
                  body)

@@ -202,9 +202,6 @@ struct DetectorOptions {
   // duplicates are merged and before min_decision_margin. Default profile on (realistic set in 16h5:
   // every wrong id was such a second reading beside the right one); paper(): off.
   bool suppress_overlaps = true;
-  // Beyond the paper: after decoding, check each side against the decoded tag (black ring inside,
-  // white ring outside), re-fit a partly occluded side from its visible part, withdraw the detection
-  // when a side cannot be fixed (occlusion_refit.hpp). Default profile on; paper(): off.
   // The encoding gamma of the input's intensities (value = linear^(1 / input_gamma)): 2.2 for
   // gamma-encoded images (sRGB: camera JPEGs and PNGs, most 8-bit images), 1 for linear ones
   // (renders written with gamma 1, as the ray-traced sweeps' frames are; raw sensor data). Used where
@@ -216,6 +213,9 @@ struct DetectorOptions {
   // linear_corners.hpp), after min_decision_margin and before the occlusion refit. Default profile
   // on; paper(): off.
   LinearCornerOptions linear_corners;
+  // Beyond the paper: after decoding, check each side against the decoded tag (black ring inside,
+  // white ring outside), re-fit a partly occluded side from its visible part, withdraw the detection
+  // when a side cannot be fixed (occlusion_refit.hpp). Default profile on; paper(): off.
   bool occlusion_refit = true;
   OcclusionRefitOptions occlusion;
   // Beyond the paper: threshold quads up to 64 px that did not decode are looked at again, their

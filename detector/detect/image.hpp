@@ -8,6 +8,8 @@
 //     [x - 0.5, x + 0.5] x [y - 0.5, y + 0.5], so the image spans [-0.5, width - 0.5] in x.
 // No OpenCV here: cv::Mat input goes through detect/detector_opencv.hpp, the one header of the
 // library that names OpenCV; a plain 8-bit buffer enters through ImageU8View below.
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -52,5 +54,11 @@ struct ImageU8View {
 ImageF to_float_image(const ImageU8View& gray);
 // The same into a caller-owned image whose storage is reused (the detector's workspace).
 void to_float_image(const ImageU8View& gray, ImageF& out);
+
+// A gamma-encoded intensity made linear: v^gamma (value = linear^(1 / gamma), DetectorOptions::
+// input_gamma), negative values taken as 0; gamma 1 returns v as it is.
+inline float linearised(float v, double gamma) {
+  return gamma == 1.0 ? v : static_cast<float>(std::pow(std::max(0.0f, v), gamma));
+}
 
 }  // namespace tagbench

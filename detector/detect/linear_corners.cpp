@@ -11,7 +11,8 @@ namespace tagbench {
 
 namespace {
 
-// v^gamma, by table for the 256 values an 8-bit image gives (v = k / 255) and computed otherwise.
+// v^gamma, by table for the 256 values an 8-bit image gives (v = k / 255) and computed otherwise
+// (float powers, as the table; image.hpp's linearised() is the same in double).
 struct Linearise {
   explicit Linearise(double gamma) : gamma(static_cast<float>(gamma)) {
     for (int k = 0; k < 256; ++k) table[static_cast<std::size_t>(k)] = std::pow(k / 255.0f, this->gamma);
@@ -35,6 +36,7 @@ void refine_corners_linear(std::span<Detection> detections, const ImageF& img, s
   if (gamma == 1.0 || !(gamma > 0 && std::isfinite(gamma)) || img.empty()) return;
   const Linearise linear(gamma);
   EdgeRefineOptions o = refine;
+  o.gamma = 1.0;  // the neighbourhood is linearised already
   o.max_corner_shift_px = opt.max_corner_shift_px;
   EdgeRefineScratch scratch;
   ImageF roi;

@@ -14,10 +14,7 @@ float bilinear(const ImageF& img, double x, double y, double gamma = 1.0) {
   const double fx = std::floor(x), fy = std::floor(y);
   const int x0 = static_cast<int>(fx), y0 = static_cast<int>(fy);
   const float ax = static_cast<float>(x - fx), ay = static_cast<float>(y - fy);
-  const auto at = [&](int u, int v) {
-    const float p = img.at_clamped(u, v);
-    return gamma == 1.0 ? p : static_cast<float>(std::pow(std::max(0.0f, p), gamma));
-  };
+  const auto at = [&](int u, int v) { return linearised(img.at_clamped(u, v), gamma); };
   const float a = at(x0, y0), b = at(x0 + 1, y0), c = at(x0, y0 + 1), d = at(x0 + 1, y0 + 1);
   return (a + (b - a) * ax) * (1 - ay) + (c + (d - c) * ax) * ay;
 }

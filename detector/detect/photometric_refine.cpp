@@ -234,7 +234,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
             return u1 >= b.u1_lo && u1 <= b.u1_hi && u2 >= b.u2_lo && u2 <= b.u2_hi;
           }))
         edge = false;
-      if (edge) px.push_back({xn_[k], yn, opt.gamma == 1.0 ? img.at(rx[k], y) : static_cast<float>(std::pow(std::max(0.0f, img.at(rx[k], y)), opt.gamma))});
+      if (edge) px.push_back({xn_[k], yn, linearised(img.at(rx[k], y), opt.gamma)});
     }
   }
   if (static_cast<int>(px.size()) < opt.min_pixels) return std::nullopt;

@@ -57,6 +57,12 @@ TEST(LinearCorners, GammaEncodedTagsCornersComeBackToTheTruth) {
     EXPECT_GT(before, 0.3) << k;
     EXPECT_LT(after, 0.2) << k << " before " << before;  // (the photometric refinement takes it further)
     EXPECT_LT(after, 0.4 * before) << k << " before " << before;
+    // The scan's own gamma is not applied on top (the neighbourhood is linear already).
+    std::vector<Detection> e = {detection_on(t, 10 + k)};
+    EdgeRefineOptions with_gamma;
+    with_gamma.gamma = 2.2;
+    refine_corners_linear(e, t.img, families, 2.2, with_gamma, LinearCornerOptions{});
+    EXPECT_EQ(e[0].corners, d[0].corners) << k;
     // The homography and centre moved with the corners.
     const Eigen::Vector3d c = d[0].homography * Eigen::Vector3d(-1, -1, 1);
     EXPECT_LT((c.hnormalized() - d[0].corners[0]).norm(), 1e-9) << k;
