@@ -11,7 +11,7 @@
 //       "max_hamming": 1,                     // bits corrected at most
 //       "min_decision_margin": 0,             // detections read with a smaller margin are dropped
 //       "half_res": false,                    // segmentation at half resolution
-//       "input_gamma": 2.2,                   // the images' encoding gamma (--input-gamma)
+//       "input_gamma": 1,                     // the images' encoding gamma (--input-gamma)
 //       "camera": [fx, fy, cx, cy] | null,    // pixels
 //       "distortion": [k1, k2, p1, p2, k3] | null,
 //       "tag_size": s | null                  // metres, edge of the black square

@@ -35,7 +35,7 @@ degrees about a random axis, random roll, on a card or cube face of random grey,
 wholly in view; on a procedural cluttered ground (paving grids, rectangles, outlines, lines, blobs,
 text, tag-like decoys, texture at three scales); rendered projectively at 4 x 4 samples a pixel and
 box-averaged; uneven light (a smooth fall-off and often a hard shadow; tags in sun or shade, worn
-or grey prints: low contrast); then a camera: Gaussian defocus, motion blur, shot and read noise, gamma 2.2, 8 bits, JPEG
+or grey prints: low contrast); then a camera: Gaussian defocus, motion blur, shot and read noise, gamma (2.2), 8 bits, JPEG
 at quality 70..90. Each frame is determined by (seed, frame number): the same bytes on every run.
 
 Options:
@@ -66,6 +66,8 @@ Ranges (LO,HI; a value per frame or tag is drawn uniformly in it; defaults are t
   --ink LO,HI         reflectance of the tag's black (default 0.04,0.5)
   --face-light LO,HI  light on the tag's face, 1 = the brightest ground (default 0.25,1)
   --sharpen LO,HI     the camera's unsharp-mask amount (sigma 1 px) before JPEG (default 0,0)
+  --camera-gamma G    the camera's encoding gamma, in [1, 4] (default 2.2, as photographs; 1: a linear
+                      machine-vision camera); our detectors are told it (DetectorOptions::input_gamma)
 
 Writes into DIR:
   realistic.csv          a row per tag and detector: the frame's camera values, the tag (id, black
@@ -131,7 +133,7 @@ void prepare_export_folder(const std::filesystem::path& dir) {
 int cmd_realistic(const Words& w) {
   if (wants_help(w, kHelp)) return 0;
   const Args a(w, {{"frames"}, {"seed"}, {"family"}, {"detectors"}, {"out"}, {"export-frames"}, {"ceiling", false}, {"ideal", false},
-                   {"sizes"}, {"blur"}, {"motion-blur"}, {"jpeg-quality"}, {"full-well"}, {"ink"}, {"face-light"}, {"sharpen"}});
+                   {"sizes"}, {"blur"}, {"motion-blur"}, {"jpeg-quality"}, {"full-well"}, {"ink"}, {"face-light"}, {"sharpen"}, {"camera-gamma"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   bench::RealisticRunSettings s;
   s.frames = static_cast<int>(a.get_int("frames", 50, 1, 1000000));
@@ -154,6 +156,7 @@ int cmd_realistic(const Words& w) {
   range("ink", s.set.ink_reflectance);
   range("face-light", s.set.face_light);
   range("sharpen", s.set.sharpen_amount);
+  if (a.has("camera-gamma")) s.set.gamma = parse_double("--camera-gamma", *a.get("camera-gamma"), 1, 4);
   try {
     s = bench::resolve_run_settings(s);
   } catch (const std::invalid_argument& e) {

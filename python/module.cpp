@@ -132,7 +132,7 @@ PYBIND11_MODULE(tagbench, m) {
 
   py::class_<Detector>(m, "Detector",
                        "Detector(families=['36h11'], max_hamming=None, min_decision_margin=0, camera=None, "
-                       "distortion=None, tag_size=None, half_resolution=False, profile='default', input_gamma=2.2). profile: 'default' "
+                       "distortion=None, tag_size=None, half_resolution=False, profile='default', input_gamma=1). profile: 'default' "
                        "(DetectorOptions{}), 'thorough' (DetectorOptions::thorough(): the default with its quads from "
                        "straight edges found at full resolution and a coarse pass, more of the small faint tags for "
                        "about twice the time) or 'paper' "
@@ -141,9 +141,10 @@ PYBIND11_MODULE(tagbench, m) {
                        "K = K bits for every family. The "
                        "other keywords are set on top of the profile's options. camera: "
                        "(fx, fy, cx, cy) pixels; tag_size: the black square's edge, metres (poses need both); "
-                       "distortion: OpenCV's (k1, k2, p1, p2, k3). input_gamma: the images' encoding gamma (2.2: "
-                       "camera JPEGs/PNGs, sRGB-like; 1: linear images such as renders or raw data), used to "
-                       "place a found tag's sides on linear intensities. ValueError names a bad option.")
+                       "distortion: OpenCV's (k1, k2, p1, p2, k3). input_gamma: the images' encoding gamma (1, the "
+                       "default: the image as it is, linear cameras, renders, raw data; 2.2: camera JPEGs/PNGs, "
+                       "sRGB-like, corners about 5 % nearer the truth), used to place a found tag's sides on "
+                       "linear intensities; a wrong value costs more than the right one gains. ValueError names a bad option.")
       .def(py::init([](const std::vector<std::string>& families, const std::optional<int>& max_hamming,
                        double min_decision_margin, const std::optional<std::array<double, 4>>& camera,
                        const std::optional<std::array<double, 5>>& distortion, const std::optional<double>& tag_size,
@@ -154,7 +155,7 @@ PYBIND11_MODULE(tagbench, m) {
            py::kw_only(), py::arg("families") = std::vector<std::string>{"36h11"}, py::arg("max_hamming") = py::none(),
            py::arg("min_decision_margin") = 0.0, py::arg("camera") = py::none(), py::arg("distortion") = py::none(),
            py::arg("tag_size") = py::none(), py::arg("half_resolution") = false, py::arg("profile") = "default",
-           py::arg("input_gamma") = 2.2)
+           py::arg("input_gamma") = 1.0)
       .def(
           "detect",
           [](const Detector& detector, const py::array& image) {

@@ -78,9 +78,10 @@ struct ComparatorSetup {
   // OpenCV's k1, k2, p1, p2, k3 of the camera, for the pose: ours undistorts its corners and aruco's
   // solvePnP takes them; libapriltag's estimate_tag_pose has no distortion model and ignores them.
   std::optional<std::array<double, 5>> distortion;
-  // The images' encoding gamma (DetectorOptions::input_gamma; ours only): 2.2 for photographs and the
-  // realistic set (gamma-encoded like a camera's), 1 for the ray-traced frames (POV-Ray writes them
-  // linear, File_Gamma=1.0) and the synthetic scenes (drawn linear).
+  // The images' encoding gamma (DetectorOptions::input_gamma, whose own default is 1; ours only): the
+  // benchmarks tell our detector each set's encoding, as they tell every detector the camera. 2.2 for
+  // photographs (the corpus); the realistic set's camera gamma (realistic_run.cpp); 1 for the
+  // ray-traced frames (POV-Ray writes them linear, File_Gamma=1.0) and the synthetic scenes (drawn linear).
   double input_gamma = 2.2;
 };
 

@@ -90,6 +90,9 @@ RealisticResult run_realistic(const RealisticRunSettings& settings, const std::f
   const RealisticRunSettings& s = r.settings;
   ComparatorSetup setup;
   setup.family = s.set.family;
+  // Our detectors are told the camera's encoding gamma, as a user would set it for their camera (a
+  // variant's input_gamma overrides it); ideal frames are not gamma-encoded.
+  setup.input_gamma = s.set.degrade ? s.set.gamma : 1.0;
   std::vector<std::unique_ptr<Comparator>> dets;
   for (const auto& name : s.detectors) dets.push_back(make_comparator(name, setup));  // throws for a family it lacks
   for (const auto& det : dets) r.can_explain.push_back(det->can_explain());

@@ -86,10 +86,33 @@ TEST(CliRealistic, SmallRunWritesItsFilesWithHeaders) {
   EXPECT_EQ(slurp(out / "realistic_summary.csv"), slurp(out2 / "realistic_summary.csv"));
 }
 
+// --camera-gamma sets the frames' encoding and our detectors are told it: with a linear camera the
+// default profile's corners are those of input_gamma=1 (row for row), not those of 2.2.
+TEST(CliRealistic, OurDetectorsAreToldTheCamerasGamma) {
+  const fs::path out = scratch() / "linear";
+  const Result r = run("--frames 2 --seed 3 --camera-gamma 1 --detectors tagbench,tagbench/input_gamma=1,"
+                       "tagbench/input_gamma=2.2 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(out / "realistic.json").find("\"gamma\": 1,"), std::string::npos);
+  std::vector<std::string> told, one, encoded;
+  for (const auto& row : lines(slurp(out / "realistic.csv"))) {
+    std::vector<std::string> f;
+    std::stringstream in(row);
+    for (std::string c; std::getline(in, c, ',');) f.push_back(c);
+    if (f.size() < 28 || f[0] != "realistic") continue;  // the header
+    const std::string key = f[3] + "," + f[12] + "," + f[25] + "," + f[27];  // frame, tag, detected, corner RMS
+    (f[24] == "tagbench" ? told : f[24] == "tagbench/input_gamma=1" ? one : encoded).push_back(key);
+  }
+  ASSERT_GE(told.size(), 8u);
+  EXPECT_EQ(told, one);
+  EXPECT_NE(told, encoded);
+}
+
 TEST(CliRealistic, BadOptionsAreOneLineAndWriteNothing) {
   const fs::path out = scratch() / "never";
   for (const std::string bad : {"--frames 0", "--frames x", "--family 99h99", "--detectors tagbench-paper,nope",
-                                "--detectors aruco,aruco", "--detectors ,", "--bogus 1", "extra"}) {
+                                "--detectors aruco,aruco", "--detectors ,", "--bogus 1", "extra",
+                                "--camera-gamma 0.5", "--camera-gamma 5", "--camera-gamma srgb"}) {
     const Result r = run(bad + " --out " + out.string());
     EXPECT_EQ(r.code, 2) << bad;
     EXPECT_EQ(lines(r.err).size(), 1u) << bad << ": " << r.err;

@@ -137,7 +137,8 @@ TEST(FalseposCli, TheThreeExperimentsOnASmallCorpus) {
   const fs::path ext = s.path() / "external";
   fs::create_directories(ext);
   fs::create_directories(s.path() / "bad");
-  const std::string mine = std::string(TAGBENCH_BIN) + " detect - --format jsonl --family 36h11";
+  // The built-in one reads the corpus as photographs (ComparatorSetup::input_gamma 2.2).
+  const std::string mine = std::string(TAGBENCH_BIN) + " detect - --format jsonl --family 36h11 --input-gamma 2.2";
   r = run_tagbench("falsepos detectors --corpus " + corpus.string() + " --out " + ext.string() +
                        " --families 36h11 --jobs 2 --detectors 'tagbench,external:mine=" + mine + "'",
                    s.path());

@@ -95,7 +95,7 @@ TEST(LinearCorners, LeavesTheDetectionAloneWhenItHasNothingToDo) {
 TEST(LinearCorners, DetectorPlacesEncodedTagsSidesOnLinearIntensities) {
   const EncodedTag t = encoded_tag(42, 0.5);
   DetectorOptions lin, raw;
-  raw.input_gamma = 1;
+  lin.input_gamma = 2.2;
   const auto a = Detector(lin).detect(t.img), b = Detector(raw).detect(t.img);
   ASSERT_EQ(a.size(), 1u);
   ASSERT_EQ(b.size(), 1u);
@@ -104,7 +104,7 @@ TEST(LinearCorners, DetectorPlacesEncodedTagsSidesOnLinearIntensities) {
   EXPECT_LT(corner_rms(a[0].corners, t.truth), 0.06);
   EXPECT_LT(corner_rms(a[0].corners, t.truth), 0.5 * corner_rms(b[0].corners, t.truth));
   DetectorOptions p1 = DetectorOptions::paper(), p2 = DetectorOptions::paper();
-  p2.input_gamma = 1;
+  p1.input_gamma = 2.2;
   const auto c = Detector(p1).detect(t.img), e = Detector(p2).detect(t.img);
   ASSERT_EQ(c.size(), e.size());
   for (std::size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c[i].corners, e[i].corners);
