@@ -301,12 +301,14 @@ def realistic_family_table(d, family):
 
 
 def realistic_corners(d):
-    """Corner accuracy on the realistic sets (36h11 seeds 1 and 2, 16h5, 25h9; d/realistic*/realistic.csv):
+    """Corner accuracy on the realistic sets (36h11 seeds 1 and 2, 16h5, 25h9, seed 1 from a linear camera;
+    d/realistic*/realistic.csv):
     per set, the median and 90th percentile of the corner RMS error (px) of our default profile and of
     each peer, over the tags both found with the right id: a like-for-like comparison, as each finds
     different tags."""
     sets = [("36h11, seed 1", "realistic.csv"), ("36h11, seed 2", os.path.join("realistic_seed2", "realistic.csv")),
-            ("16h5", os.path.join("realistic_16h5", "realistic.csv")), ("25h9", os.path.join("realistic_25h9", "realistic.csv"))]
+            ("16h5", os.path.join("realistic_16h5", "realistic.csv")), ("25h9", os.path.join("realistic_25h9", "realistic.csv")),
+            ("36h11, seed 1, linear camera", os.path.join("realistic_linear", "realistic.csv"))]
     peers = ["libapriltag-d1", "libapriltag-d2", "aruco"]
     body = []
     for label, f in sets:
@@ -335,6 +337,7 @@ BLOCKS = {"pending": pending,
           "realistic_seed2_table": realistic_seed2_table,
           "realistic_16h5_table": lambda d: realistic_family_table(d, "16h5"),
           "realistic_25h9_table": lambda d: realistic_family_table(d, "25h9"),
+          "realistic_linear_table": lambda d: _realistic_rates(os.path.join(d, "realistic_linear")),
           "speed": speed, "speed_stages": speed_stages, "loss_distance": loss_distance,
           "loss_realistic": loss_realistic, "issue17_targets": issue17_targets, "code_table": code_table, "fp_theory": fp_theory, "generator_speed": generator_speed,
           "decode_speed": decode_speed, "raytrace_summary": raytrace_summary,

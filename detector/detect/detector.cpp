@@ -110,6 +110,9 @@ Detector::Detector(DetectorOptions options) : opt_(std::move(options)), find_qua
   check.payload_width = std::max(1, max_payload_width(families_));
   check.min_contrast = opt_.payload.min_contrast;
   check.enabled = check.enabled && opt_.payload.quick_reject && opt_.decode_sigma == 0;  // the image it reads
+  // The edge locators after decoding read linear intensities: the input's encoding.
+  opt_.occlusion.gamma = opt_.input_gamma;
+  opt_.photometric.gamma = opt_.input_gamma;
   if (opt_.quad_finder == QuadFinderKind::kThreshold) find_quads_ = &find_threshold_quads_in_image;
 }
 
@@ -329,17 +332,11 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   if (opt_.linear_corners.enabled)
     refine_corners_linear(out, gray, families_, opt_.input_gamma, opt_.threshold_quads.refine, opt_.linear_corners);
   std::vector<HiddenSides> hidden;
-  if (opt_.occlusion_refit) {
-    OcclusionRefitOptions occlusion = opt_.occlusion;
-    occlusion.gamma = opt_.input_gamma;
-    hidden = refit_occluded(out, gray, families_, occlusion, trace ? &trace->withdrawn : nullptr);
-  }
-  if (opt_.photometric.enabled && !opt_.distortion) {  // a homography cannot fit a distorted tag
-    PhotometricRefineOptions photometric = opt_.photometric;
-    photometric.gamma = opt_.input_gamma;
-    refine_detections_photometric_guarded(out, gray, families_, photometric, opt_.photometric_guard, hidden,
+  if (opt_.occlusion_refit)
+    hidden = refit_occluded(out, gray, families_, opt_.occlusion, trace ? &trace->withdrawn : nullptr);
+  if (opt_.photometric.enabled && !opt_.distortion)  // a homography cannot fit a distorted tag
+    refine_detections_photometric_guarded(out, gray, families_, opt_.photometric, opt_.photometric_guard, hidden,
                                           &workspace.impl().photometric);
-  }
   tm.decode = ms_since(t);
 
   // 7. Poses.

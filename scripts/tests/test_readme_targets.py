@@ -106,11 +106,11 @@ class CornerTable(unittest.TestCase):
                       "1,0,tagbench,1,0,0.2\n1,0,libapriltag-d1,1,0,0.5\n")
         with tempfile.TemporaryDirectory() as d:
             write(d, "realistic.csv", csv)
-            for sub in ("realistic_seed2", "realistic_16h5", "realistic_25h9"):
+            for sub in ("realistic_seed2", "realistic_16h5", "realistic_25h9", "realistic_linear"):
                 os.mkdir(os.path.join(d, sub))
                 write(d, sub + "/realistic.csv", head)
             lines = update_readme.realistic_corners(d).splitlines()
-            self.assertEqual(len(lines), 6)  # header, rule, four sets
+            self.assertEqual(len(lines), 7)  # header, rule, five sets
             self.assertTrue(lines[2].startswith("| 36h11, seed 1 | 2: 0.150 / 0.200 vs 0.400 / 0.500 | - | - |"), lines[2])
             self.assertEqual(lines[3], "| 36h11, seed 2 | - | - | - |")
 
