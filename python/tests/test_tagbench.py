@@ -93,6 +93,19 @@ class DetectTest(unittest.TestCase):
         self.assertEqual([d.id for d in a], [3])
         self.assertEqual([d.id for d in b], [3])
         np.testing.assert_allclose(a[0].corners, b[0].corners, atol=0.5)
+        # The default takes the image as it is (input_gamma 1: a wrong gamma costs more than the right one
+        # gains): on a blurred copy, where the two gammas place the sides apart, it gives gamma 1's corners.
+        f = img.astype(np.float64)
+        for _ in range(3):  # a 3 x 3 box filter, three times (about a Gaussian of 1.4 px)
+            p = np.pad(f, 1, mode="edge")
+            f = sum(p[1 + dy:1 + dy + f.shape[0], 1 + dx:1 + dx + f.shape[1]] for dy in (-1, 0, 1) for dx in (-1, 0, 1)) / 9
+        blurred = np.round(f).astype(np.uint8)
+        one = tagbench.Detector(input_gamma=1).detect(blurred)
+        two = tagbench.Detector(input_gamma=2.2).detect(blurred)
+        default = tagbench.Detector().detect(blurred)
+        self.assertEqual([d.id for d in default], [3])
+        self.assertGreater(np.abs(one[0].corners - two[0].corners).max(), 0.01)
+        np.testing.assert_array_equal(default[0].corners, one[0].corners)
 
     def test_bits_corrected_follow_the_profile_unless_given(self):
         # None keeps the profile's bits (default: by family, at most (h - 1) / 3); K means K for every family.
