@@ -24,7 +24,8 @@ namespace tagbench::cli {
 namespace {
 
 constexpr const char* kHelp = R"(usage: tagbench realistic [--frames N] [--seed S] [--family F] [--detectors LIST] [--out DIR]
-           [--export-frames DIR] [--ceiling] [--ideal] [--sizes|--blur|--motion-blur|--jpeg-quality|--full-well|--ink|--face-light LO,HI]
+           [--export-frames DIR] [--ceiling] [--ideal] [--camera-gamma G]
+           [--sizes|--blur|--motion-blur|--jpeg-quality|--full-well|--ink|--face-light|--sharpen LO,HI]
 
 The realistic image set (issue 17): frames made to behave like JPEG photographs of small tags, and
 every selected detector on every frame, one thread, scored per tag against the frame's ground truth.
