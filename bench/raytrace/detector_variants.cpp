@@ -53,6 +53,9 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "minwidth") o.threshold_quads.fit.min_tag_width = x;
     else if (k == "margin") o.min_decision_margin = x;
     else if (k == "tblur") o.threshold_quads.blur_sigma = x;
+    else if (k == "nblur") o.threshold_quads.noise_blur.enabled = x != 0;
+    else if (k == "nblur_min") o.threshold_quads.noise_blur.min_noise_grey = x;
+    else if (k == "nblur_sigma") o.threshold_quads.noise_blur.sigma = x;
     else if (k == "minpts") o.threshold_quads.fit.min_points = static_cast<int>(x);
     else if (k == "maxima") o.threshold_quads.fit.max_maxima = static_cast<int>(x);
     else if (k == "mse") o.threshold_quads.fit.max_line_fit_mse = x;

@@ -57,6 +57,8 @@ void validate_occluded_fit(const OccludedQuadFitOptions& o) {
 
 void validate_threshold_quads(const ThresholdQuadOptions& q) {
   finite_at_least("threshold_quads.blur_sigma", q.blur_sigma, 0);
+  finite_above("threshold_quads.noise_blur.min_noise_grey", q.noise_blur.min_noise_grey, 0);
+  finite_above("threshold_quads.noise_blur.sigma", q.noise_blur.sigma, 0);
   int_within("threshold_quads.threshold.tile_size", q.threshold.tile_size, 1, 256);
   within("threshold_quads.threshold.min_contrast", q.threshold.min_contrast, 0, 1);
   int_within("threshold_quads.refine_check.payload_width", q.refine_check.payload_width, 1, 8);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "detect/blur.hpp"
+#include "detect/noise_estimate.hpp"
 #include "detect/payload_decode.hpp"  // border_contrast_plausible
 #include "detect/stage_clock.hpp"
 
@@ -47,8 +48,14 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   if (halve) half_resolution(img, ws.half);
   const ImageF& in = halve ? ws.half : img;
   st.ms_halve = lap_ms(t);
-  if (opt.blur_sigma > 0) gaussian_blur(in, opt.blur_sigma, ws.blur_tmp, ws.blurred);
-  const ImageF& th_in = opt.blur_sigma > 0 ? ws.blurred : in;
+  double blur = opt.blur_sigma;
+  if (blur == 0 && opt.noise_blur.enabled && !halve) {
+    st.noise_grey = estimate_noise_grey(in, 2);
+    if (st.noise_grey >= opt.noise_blur.min_noise_grey) blur = opt.noise_blur.sigma;
+  }
+  st.blur_sigma = blur;
+  if (blur > 0) gaussian_blur(in, blur, ws.blur_tmp, ws.blurred);
+  const ImageF& th_in = blur > 0 ? ws.blurred : in;
   st.ms_blur = lap_ms(t);
 
   adaptive_threshold(th_in, opt.threshold, ws.pass.threshold, ws.pass.ternary);

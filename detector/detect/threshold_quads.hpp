@@ -28,6 +28,24 @@ struct ThresholdQuadOptions {
   // JPEG blocks and noise so thin rings stay connected; quads are still refined on the unblurred
   // image. (AprilTag 3: quad_sigma, default 0.)
   double blur_sigma = 0;
+  // Beyond AprilTag 3: the blur chosen per image, for sharpened or noisy photographs. With enabled,
+  // blur_sigma 0 and the full-resolution image, an image whose noise (estimate_noise_grey,
+  // noise_estimate.hpp, every 2nd row) is at least min_noise_grey grey levels is blurred by sigma px
+  // before the threshold. Measured (realistic seed 1, 200 frames; session 33): the camera's
+  // sharpening (`--sharpen 1,2`) cost the default profile 1100 -> 1042 tags (20-24 px 172 -> 146) and
+  // took it to 1.11 x libapriltag d1's time; a fixed 0.8 px blur gets 1104 / 161 back on those frames
+  // but loses 1100 -> 1043 on the unsharpened ones, whose noise is under 0.85 grey level in 95 % of
+  // frames (sharpened: median 2). With it (variant `nblur=1`): sharpened 1042 -> 1112 tags (20-24 px
+  // 146 -> 163 of 188), 48.7 -> 40.3 ms a frame; unsharpened seed 1 1100 -> 1099 (20-24 px 172), seed
+  // 2 1048 -> 1048; no wrong id; every ray-traced sweep (distance, angle, conditions) row for row the
+  // same. Off everywhere: on the corpus (1182 photographs) it gave 36h11 its first false detection
+  // (0 -> 1; a target is none) and 16h5 264 -> 306, 3 % more time; and 10 px tags under 5 grey levels
+  // of noise (test_profiles' scene) lose 1 of 36 to it.
+  struct NoiseBlur {
+    bool enabled = false;
+    double min_noise_grey = 1.42;  // > 0; 1.2 on the scale of the mean-based constant it was measured with
+    double sigma = 0.8;           // px, > 0
+  } noise_blur;
   ThresholdOptions threshold;
   // Dark regions 8-connected and light ones 4-connected (components.hpp) instead of the reverse
   // (AprilTag 3's pairing): a 10-12 px tag's black border is about one pixel wide, and when the tag
@@ -70,6 +88,8 @@ struct ThresholdQuadWorkspace {
 struct ThresholdQuadStats {
   double ms_halve = 0, ms_blur = 0, ms_threshold = 0, ms_components = 0, ms_boundaries = 0, ms_fit = 0, ms_refine = 0;
   double ms_low_contrast = 0;  // the low-contrast pass (threshold to fit), included in ms_fit
+  double noise_grey = -1;      // the image's noise estimate when noise_blur looked (else -1)
+  double blur_sigma = 0;       // the blur the threshold saw, px (0: none)
   std::size_t components = 0, groups = 0, boundary_points = 0, quads = 0;
 };
 
