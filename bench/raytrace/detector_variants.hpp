@@ -9,7 +9,8 @@
 //   finder (threshold|gradient), reader (area|point), k, extent, sharpen, small_px, small_sharpen:
 //     the quad finder and the area payload reader; refine, gamma, refine_iter, refine_spacing: edge
 //     refinement; hamming (bits corrected in every family), byfamily; tile, contrast, low_contrast,
-//     weber, minpix, minwidth, tblur, minpts, maxima, mse, dark8, oneside, occl, refit, agree: the
+//     weber, minpix, minwidth, tblur, nblur, nblur_min, nblur_sigma (the noise-chosen blur), minpts,
+//     maxima, mse, dark8, oneside, occl, refit, agree: the
 //     threshold quads and the occlusion refit; margin (min decision margin); photo, photo_*: the
 //     photometric refinement; pguard, pguard_*: its guard; posechoice, posechoice_*: the pose choice;
 //     bent, bent_*: folded tags; outer, outer_*, ring_*: the outer-outline fallback; look, look_*: the

@@ -8,6 +8,7 @@
 #include "codes/families.hpp"
 #include "codes/tag_layout.hpp"
 #include "detect/blur.hpp"
+#include "detect/decode_quads.hpp"
 #include "detect/payload_area.hpp"
 #include "detect/soft_decode.hpp"
 #include "synthetic_tag.hpp"
@@ -168,6 +169,47 @@ TEST(SoftDecode, ReadsLowContrastNoisyTagsTheHardDecoderMisses) {
   EXPECT_EQ(wrong, 0);
   EXPECT_GE(soft, 3);
   EXPECT_LT(hard, 60);
+}
+
+// The guard against slivers (SoftDecodeOptions::min_area_ratio): area over mean side squared is 1 for
+// a square, about 0.5 for one seen at 80 degrees, 0 for a degenerate quad; a quad under the ratio is
+// not soft decoded by decode_quads, one at or over it is.
+TEST(SoftDecode, FlatQuadsAreNotSoftDecodedUnderTheAreaRatio) {
+  using V = Eigen::Vector2d;
+  EXPECT_NEAR(quad_area_ratio({V(0, 0), V(10, 0), V(10, 10), V(0, 10)}), 1.0, 1e-12);
+  const double c = std::cos(80.0 * std::acos(-1.0) / 180);
+  EXPECT_NEAR(quad_area_ratio({V(0, 0), V(10, 0), V(10, 10 * c), V(0, 10 * c)}), c / std::pow((1 + c) / 2, 2), 1e-12);
+  EXPECT_EQ(quad_area_ratio({V(0, 0), V(10, 0), V(20, 0), V(30, 0)}), 0.0);
+  EXPECT_EQ(quad_area_ratio({V(1, 1), V(1, 1), V(1, 1), V(1, 1)}), 0.0);
+
+  // A tag only the soft decoder reads (as in the test above), through decode_quads.
+  const TagFamily& f = builtin_family("36h11");
+  const std::vector<TagFamily> families{f};
+  std::mt19937 rng(17);
+  std::normal_distribution<float> noise(0.0f, 0.045f);
+  PayloadAreaOptions area;
+  SoftDecodeOptions soft;
+  int checked = 0;
+  for (int id = 0; id < 60 && checked < 2; ++id) {
+    const Corners c = synth::square_tag_corners(25.2 + 0.11 * id, 24.7, 20.0, 0.13 * id);
+    const Eigen::Matrix3d H = synth::homography_for(c);
+    ImageF img = gaussian_blur(synth::render_tag(50, 50, tag_cells(f, id), H, 0.5f, 8, 0.42f, 0.58f), 1.1);
+    for (auto& v : img.data) v += noise(rng);
+    const auto r = read_payload_area(img, H, 6);
+    if (!r || f.decode(r->bits, 3) || !soft_decode(f, *r)) continue;
+    Quad q;
+    q.corners = c;
+    soft.min_area_ratio = 0;
+    const auto yes = decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft);
+    ASSERT_EQ(yes.size(), 1u);
+    EXPECT_EQ(yes[0].id, id);
+    soft.min_area_ratio = 0.99 * quad_area_ratio(c);
+    EXPECT_EQ(decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft).size(), 1u);
+    soft.min_area_ratio = 1.01 * quad_area_ratio(c);
+    EXPECT_TRUE(decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft).empty());
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2);
 }
 
 }  // namespace test_soft_decode
