@@ -59,9 +59,7 @@ const char* loss_stage_name(LossStage s) {
 }
 
 double default_loss_tolerance(const Corners& c) {
-  double sides = 0;
-  for (std::size_t k = 0; k < 4; ++k) sides += (c[(k + 1) % 4] - c[k]).norm();
-  return std::max(2.0, 0.15 * sides / 4);
+  return std::max(2.0, 0.15 * perimeter(c) / 4);
 }
 
 LossExplanation explain_loss(const TagTruth& truth, const DetectorTrace& trace, std::span<const Detection> detections,

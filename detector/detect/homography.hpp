@@ -19,6 +19,19 @@ namespace tagbench {
 
 using Corners = std::array<Eigen::Vector2d, 4>;  // top-left, top-right, bottom-right, bottom-left
 
+// Twice a quad's signed area (shoelace; positive for clockwise on screen with y down), and its
+// perimeter, each summed over the sides in corner order.
+inline double twice_signed_area(const Corners& q) {
+  double area2 = 0;
+  for (std::size_t i = 0; i < 4; ++i) area2 += q[i].x() * q[(i + 1) & 3].y() - q[(i + 1) & 3].x() * q[i].y();
+  return area2;
+}
+inline double perimeter(const Corners& q) {
+  double p = 0;
+  for (std::size_t i = 0; i < 4; ++i) p += (q[(i + 1) & 3] - q[i]).norm();
+  return p;
+}
+
 // The homography taking from[i] to to[i] (at least 4 pairs, no 3 of the first 4 collinear) by the
 // normalised DLT: each point set is shifted to its centroid and scaled to mean distance sqrt(2),
 // the null vector of the 2N x 9 system is found by SVD, then the scaling is undone. H is scaled so

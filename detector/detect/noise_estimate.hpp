@@ -14,7 +14,7 @@
 // Units: intensities as image.hpp ([0, 1]); the result in grey levels (x 255), so that 8-bit images
 // give the same number as the literature's. The median is taken over a quarter-grey-level histogram
 // of the responses (those over 64 grey levels in its top bin), so the result moves in steps of
-// 0.05 grey level and stops at about 13 (a median response of 64).
+// 0.06 grey level and stops at about 16 (a median response of 64).
 #include "image.hpp"
 
 namespace tagbench {

@@ -65,9 +65,7 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
   if (img.empty() || cells.n < 5 || !(opt.gamma > 0 && std::isfinite(opt.gamma))) return std::nullopt;
   const auto H = tag_homography(corners);
   if (!H) return std::nullopt;
-  double perimeter = 0;
-  for (std::size_t i = 0; i < 4; ++i) perimeter += (corners[(i + 1) % 4] - corners[i]).norm();
-  const double side = perimeter / 4;
+  const double side = perimeter(corners) / 4;
   if (!(side >= opt.min_black_square_px)) return std::nullopt;
 
   // Normalised image coordinates x' = (x - c) / S, for a well-conditioned G (x' -> u) with G33 = 1.

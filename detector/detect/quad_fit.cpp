@@ -226,12 +226,7 @@ std::optional<Corners> fit_quad(std::span<const BoundaryPoint> group, const Imag
   }
 
   // Area (shoelace; positive for clockwise on screen with y down), then every corner's angle and turn.
-  double area2 = 0;
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto &p = q[i], &r = q[(i + 1) & 3];
-    area2 += p.x() * r.y() - r.x() * p.y();
-  }
-  if (0.5 * area2 < min_area) return std::nullopt;
+  if (0.5 * twice_signed_area(q) < min_area) return std::nullopt;
   for (std::size_t i = 0; i < 4; ++i) {
     const Eigen::Vector2d d1 = q[(i + 1) & 3] - q[i], d2 = q[(i + 2) & 3] - q[(i + 1) & 3];
     const double den = d1.norm() * d2.norm();
@@ -257,7 +252,7 @@ Quad fitted_quad(const Corners& corners) {
   Quad q;
   q.corners = corners;
   q.segments = {-1, -1, -1, -1};
-  for (std::size_t i = 0; i < 4; ++i) q.observed_perimeter += (corners[(i + 1) & 3] - corners[i]).norm();
+  q.observed_perimeter = perimeter(corners);
   return q;
 }
 

@@ -197,9 +197,7 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
   const auto evaluate = [&](const Corners& q, const std::array<int, 4>& lid) -> int {
     bool ok = true;
     const bool three = lid[3] < 0;
-    double area2 = 0;
-    for (std::size_t i = 0; i < 4; ++i) area2 += q[i].x() * q[(i + 1) & 3].y() - q[(i + 1) & 3].x() * q[i].y();
-    if (0.5 * area2 < min_area) return -1;
+    if (0.5 * twice_signed_area(q) < min_area) return -1;
     for (std::size_t i = 0; i < 4 && ok; ++i) {
       const Eigen::Vector2d d1 = q[(i + 1) & 3] - q[i], d2 = q[(i + 2) & 3] - q[(i + 1) & 3];
       const double den = d1.norm() * d2.norm();

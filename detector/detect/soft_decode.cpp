@@ -53,16 +53,9 @@ SoftMatch soft_match(const TagFamily& family, std::span<const float> z, const So
   return m;
 }
 
-double quad_area_ratio(const std::array<Eigen::Vector2d, 4>& corners) {
-  double area2 = 0, sides = 0;
-  for (std::size_t i = 0; i < 4; ++i) {
-    const Eigen::Vector2d& a = corners[i];
-    const Eigen::Vector2d& b = corners[(i + 1) % 4];
-    area2 += a.x() * b.y() - b.x() * a.y();
-    sides += (b - a).norm();
-  }
-  const double mean_side = sides / 4;
-  return mean_side > 0 ? std::abs(area2) / 2 / (mean_side * mean_side) : 0.0;
+double quad_area_ratio(const Corners& corners) {
+  const double mean_side = perimeter(corners) / 4;
+  return mean_side > 0 ? std::abs(twice_signed_area(corners)) / 2 / (mean_side * mean_side) : 0.0;
 }
 
 std::optional<DecodeResult> soft_decode(const TagFamily& family, const PayloadReading& reading,

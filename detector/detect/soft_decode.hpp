@@ -21,14 +21,12 @@
 // and on realistic frames 200-499 (30517 away from any tag, 805 on a tag but not reading it), and
 // those tags' truth-corner readings: with max_bit_errors 6 and no refused payload of any kind within
 // 0.5 of both bounds (none with D1 <= 2 and D2 - D1 >= 4), 60 of the 243 refused true readings pass.
-#include <array>
 #include <optional>
 #include <span>
 
 #include "../codes/tag_family.hpp"
+#include "homography.hpp"
 #include "payload_decode.hpp"
-
-#include <Eigen/Core>
 
 namespace tagbench {
 
@@ -45,14 +43,14 @@ struct SoftDecodeOptions {
   double min_gap = 4.5;          // D2 - D1, in mean confidences
   double confidence_cap = 1.5;   // the cap on w_i
   // No soft decoding of a quad flatter than this: its area over its mean side squared (1 for a square,
-  // 0.5 at 60 degrees of tilt). 0 = off (as in every profile; session 33: a 0.27 sliver was the one
+  // 0.89 at 60 degrees of tilt, 0.5 at 80). 0 = off (as in every profile; session 33: a 0.27 sliver was the one
   // 36h11 false detection on the corpus when the threshold blur of ThresholdQuadOptions::noise_blur
   // was on). Variant key `soft_area`; decode_quads.hpp applies it.
   double min_area_ratio = 0;
 };
 
 // A quad's area over its mean side squared (0 for a degenerate one): how far from a face-on square.
-double quad_area_ratio(const std::array<Eigen::Vector2d, 4>& corners);
+double quad_area_ratio(const Corners& corners);
 
 // The best and second-best codewords (index 4 * id + rotation into TagFamily::rotated_words()) for
 // the confidences z (row-major, MSB first: z[k] belongs to bit d*d-1-k; a cell is a hard 1 when

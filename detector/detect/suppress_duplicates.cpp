@@ -6,15 +6,6 @@
 #include "detect/homography.hpp"  // inside_quad
 
 namespace tagbench {
-namespace {
-
-double perimeter(const Corners& c) {
-  double p = 0;
-  for (int i = 0; i < 4; ++i) p += (c[static_cast<std::size_t>((i + 1) % 4)] - c[static_cast<std::size_t>(i)]).norm();
-  return p;
-}
-
-}  // namespace
 
 std::vector<Detection> suppress_overlaps(std::vector<Detection> found, double max_perimeter_ratio) {
   // Best reading first (fewer bits corrected, then the higher margin, then input order); each is kept
