@@ -43,10 +43,11 @@ struct SoftDecodeOptions {
   double min_gap = 4.5;          // D2 - D1, in mean confidences
   double confidence_cap = 1.5;   // the cap on w_i
   // No soft decoding of a quad flatter than this: its area over its mean side squared (1 for a square,
-  // 0.89 at 60 degrees of tilt, 0.5 at 80). 0 = off (as in every profile; session 33: a 0.27 sliver was the one
-  // 36h11 false detection on the corpus when the threshold blur of ThresholdQuadOptions::noise_blur
-  // was on). Variant key `soft_area`; decode_quads.hpp applies it.
-  double min_area_ratio = 0;
+  // 0.89 at 60 degrees of tilt, 0.5 at 80); 0 = off. Session 33: a 0.27 sliver was the one 36h11
+  // false detection on the corpus with the threshold blur of ThresholdQuadOptions::noise_blur on;
+  // with 0.4 none, and realistic seed 1 (plain and sharpened) and the angle sweep row for row the
+  // same. Variant key `soft_area`; decode_quads.hpp applies it.
+  double min_area_ratio = 0.4;
 };
 
 // A quad's area over its mean side squared (0 for a degenerate one): how far from a face-on square.

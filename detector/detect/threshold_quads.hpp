@@ -38,11 +38,11 @@ struct ThresholdQuadOptions {
   // frames (sharpened: median 2). With it (variant `nblur=1`): sharpened 1042 -> 1112 tags (20-24 px
   // 146 -> 163 of 188), 48.7 -> 40.3 ms a frame; unsharpened seed 1 1100 -> 1099 (20-24 px 172), seed
   // 2 1048 -> 1048; no wrong id; every ray-traced sweep (distance, angle, conditions) row for row the
-  // same. Off everywhere: on the corpus (1182 photographs) it gave 36h11 its first false detection
-  // (0 -> 1; a target is none) and 16h5 264 -> 306, 3 % more time; and 10 px tags under 5 grey levels
-  // of noise (test_profiles' scene) lose 1 of 36 to it.
+  // same. On the corpus (1182 photographs) it gave 36h11 its first false detection (0 -> 1, a 0.27
+  // sliver soft-decoded; SoftDecodeOptions::min_area_ratio removes it) and 16h5 264 -> 306 (0.26 an
+  // image; libapriltag d2 2.27), 3 % more time. Default on since session 34 (with the sliver guard).
   struct NoiseBlur {
-    bool enabled = false;
+    bool enabled = true;
     double min_noise_grey = 1.42;  // > 0; 1.2 on the scale of the mean-based constant it was measured with
     double sigma = 0.8;           // px, > 0
   } noise_blur;

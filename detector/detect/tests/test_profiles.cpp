@@ -76,7 +76,8 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   EXPECT_FALSE(p.linear_corners.enabled);
   EXPECT_TRUE(d.linear_corners.enabled);
   EXPECT_TRUE(DetectorOptions::thorough().linear_corners.enabled);
-  EXPECT_FALSE(d.threshold_quads.noise_blur.enabled);  // measured, not yet on (threshold_quads.hpp)
+  EXPECT_TRUE(d.threshold_quads.noise_blur.enabled);  // a blur for sharpened or noisy photographs
+  EXPECT_EQ(d.soft_decode.min_area_ratio, 0.4);        // and no soft decoding of slivers with it
   EXPECT_EQ(d.input_gamma, 1.0);  // the image as it is unless told its encoding (a wrong gamma costs most)
   p.validate();
   d.validate();
@@ -144,9 +145,12 @@ TEST(Profiles, DefaultProfileFindsSmallTagsThePaperMisses) {
   EXPECT_GE(default_found, paper_found + total / 4);
 }
 
-// Tags at the edge of range (issue 17): black square 10 px (cells 1.25 px), rotated 0..70 degrees.
-// The default profile finds nearly all of them; with dark regions 4-connected (AprilTag 3's pairing,
-// dark_eight_connected off) the one-pixel border breaks apart and far fewer are found.
+// Tags at the edge of range (issue 17): black square 10 px (cells 1.25 px), rotated 0..70 degrees,
+// under noise of 5 grey levels. The default profile finds nearly all of them; with dark regions
+// 4-connected (AprilTag 3's pairing, dark_eight_connected off) the one-pixel border breaks apart and
+// far fewer are found. (The noise engages the default's threshold blur, noise_blur: 32 -> 31 of 36
+// here, while on the realistic set's noisiest variant it finds more of the tags under 12 px, 30 vs 25
+// of 795, session 34; hence 5/6 and not 9/10.)
 TEST(Profiles, DefaultProfileFindsTenPixelTags) {
   int found8 = 0, found4 = 0, total = 0;
   DetectorOptions four;
@@ -161,7 +165,7 @@ TEST(Profiles, DefaultProfileFindsTenPixelTags) {
     for (const auto* v : {&a, &b})
       for (const Detection& d : *v) EXPECT_NE(std::find(s.ids.begin(), s.ids.end(), d.id), s.ids.end()) << d.id;
   }
-  EXPECT_GE(found8, total * 9 / 10) << "4-connected " << found4;
+  EXPECT_GE(found8, total * 5 / 6) << "4-connected " << found4;
   EXPECT_GE(found8, found4 + total / 6) << "4-connected " << found4;
 }
 
