@@ -67,11 +67,10 @@ bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptio
   const auto at = [&](int gx, int gy) { return grid[static_cast<std::size_t>(gy * n + gx)]; };
   double sharpening = opt.sharpening;
   if (opt.small_cell_px > 0) {
-    double sides = 0;  // the black square's four sides, pixels
-    const Eigen::Vector2d c[4] = {map(Eigen::Vector2d(-1, -1)), map(Eigen::Vector2d(1, -1)),
-                                  map(Eigen::Vector2d(1, 1)), map(Eigen::Vector2d(-1, 1))};
-    for (int i = 0; i < 4; ++i) sides += (c[(i + 1) % 4] - c[i]).norm();
-    if (sides / 4 / (d + 2) < opt.small_cell_px) sharpening = opt.small_cell_sharpening;
+    // The black square's corners through the homography; its perimeter in pixels.
+    const Corners c = {map(Eigen::Vector2d(-1, -1)), map(Eigen::Vector2d(1, -1)), map(Eigen::Vector2d(1, 1)),
+                       map(Eigen::Vector2d(-1, 1))};
+    if (perimeter(c) / 4 / (d + 2) < opt.small_cell_px) sharpening = opt.small_cell_sharpening;
   }
   payload.resize(static_cast<std::size_t>(d * d));
   for (int y = 0; y < d; ++y)

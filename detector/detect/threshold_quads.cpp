@@ -50,7 +50,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   st.ms_halve = lap_ms(t);
   double blur = opt.blur_sigma;
   if (blur == 0 && opt.noise_blur.enabled && !halve) {
-    st.noise_grey = estimate_noise_grey(in, 2);
+    st.noise_grey = estimate_noise_grey(in, std::clamp((in.height - 2) / 32, 1, 16), 2);  // noise_estimate.hpp
     if (st.noise_grey >= opt.noise_blur.min_noise_grey) blur = opt.noise_blur.sigma;
   }
   st.blur_sigma = blur;

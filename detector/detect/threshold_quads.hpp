@@ -30,7 +30,7 @@ struct ThresholdQuadOptions {
   double blur_sigma = 0;
   // Beyond AprilTag 3: the blur chosen per image, for sharpened or noisy photographs. With enabled,
   // blur_sigma 0 and the full-resolution image, an image whose noise (estimate_noise_grey,
-  // noise_estimate.hpp, every 2nd row) is at least min_noise_grey grey levels is blurred by sigma px
+  // noise_estimate.hpp, on every 2nd column of 32 or more rows) is at least min_noise_grey grey levels is blurred by sigma px
   // before the threshold. Measured (realistic seed 1, 200 frames; session 33): the camera's
   // sharpening (`--sharpen 1,2`) cost the default profile 1100 -> 1042 tags (20-24 px 172 -> 146) and
   // took it to 1.11 x libapriltag d1's time; a fixed 0.8 px blur gets 1104 / 161 back on those frames

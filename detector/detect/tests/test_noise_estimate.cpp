@@ -45,9 +45,10 @@ TEST(NoiseEstimate, EdgesAndShadingAloneReadAsNearlyNoiseless) {
   EXPECT_LT(estimate_noise_grey(scene(320, 240, 0.0, 1), 1), 0.3);  // the quantisation alone
 }
 
-TEST(NoiseEstimate, EveryOtherRowGivesNearlyTheSameAndTinyImagesZero) {
+TEST(NoiseEstimate, SubsampledRowsAndColumnsGiveNearlyTheSameAndTinyImagesZero) {
   const ImageF img = scene(320, 240, 2.0, 3);
   EXPECT_NEAR(estimate_noise_grey(img, 2), estimate_noise_grey(img, 1), 0.1);
+  EXPECT_NEAR(estimate_noise_grey(img, 7, 2), estimate_noise_grey(img, 1), 0.1);  // the threshold stage's
   EXPECT_EQ(estimate_noise_grey(ImageF(2, 10, 0.5f)), 0.0);
   EXPECT_EQ(estimate_noise_grey(ImageF()), 0.0);
 }
