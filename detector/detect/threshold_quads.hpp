@@ -39,8 +39,10 @@ struct ThresholdQuadOptions {
   // 146 -> 163 of 188), 48.7 -> 40.3 ms a frame; unsharpened seed 1 1100 -> 1099 (20-24 px 172), seed
   // 2 1048 -> 1048; no wrong id; every ray-traced sweep (distance, angle, conditions) row for row the
   // same. On the corpus (1182 photographs) it gave 36h11 its first false detection (0 -> 1, a 0.27
-  // sliver soft-decoded; SoftDecodeOptions::min_area_ratio removes it) and 16h5 264 -> 306 (0.26 an
-  // image; libapriltag d2 2.27), 3 % more time. Default on since session 34 (with the sliver guard).
+  // sliver soft-decoded; SoftDecodeOptions::min_area_ratio removes it). Default on since session 34
+  // (with the sliver guard; make bench: calibrated realistic sets and sweeps unchanged, sharpened seed
+  // 1 1042 -> 1100 tags at 0.95 x libapriltag d1's time, corpus 16h5 0.223 -> 0.250 an image, 36h11
+  // 0; the 6-DoF sweep's defocused small tags under Gaussian noise 731 -> 719 of 1000).
   struct NoiseBlur {
     bool enabled = true;
     double min_noise_grey = 1.42;  // > 0; 1.2 on the scale of the mean-based constant it was measured with
