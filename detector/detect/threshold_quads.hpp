@@ -35,7 +35,7 @@ struct ThresholdQuadOptions {
   // sharpening (`--sharpen 1,2`) cost the default profile 1100 -> 1042 tags (20-24 px 172 -> 146) and
   // took it to 1.11 x libapriltag d1's time; a fixed 0.8 px blur gets 1104 / 161 back on those frames
   // but loses 1100 -> 1043 on the unsharpened ones, whose noise is under 1.0 grey level in 95 % of
-  // frames (sharpened: median 2). With it (variant `nblur=1`): sharpened 1042 -> 1112 tags (20-24 px
+  // frames (sharpened: median 2). With it (variant `nblur=1`; session 33, the noise from every 2nd row): sharpened 1042 -> 1112 tags (20-24 px
   // 146 -> 163 of 188), 48.7 -> 40.3 ms a frame; unsharpened seed 1 1100 -> 1099 (20-24 px 172), seed
   // 2 1048 -> 1048; no wrong id; every ray-traced sweep (distance, angle, conditions) row for row the
   // same. On the corpus (1182 photographs) it gave 36h11 its first false detection (0 -> 1, a 0.27
