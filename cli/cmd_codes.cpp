@@ -16,7 +16,7 @@ namespace tagbench::cli {
 using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
-constexpr const char* kHelp = R"(usage: tagbench codes [--out DIR] [--threads T]
+constexpr const char* kCodesHelp = R"(usage: tagbench codes [--out DIR] [--threads T]
 
 Writes the paper's code experiments (section V) into DIR (default results):
   code_table.csv    the encoding table: scheme, bits, codes, minimum Hamming distance with rotations,
@@ -28,7 +28,7 @@ Writes the paper's code experiments (section V) into DIR (default results):
 }
 
 int cmd_codes(const Words& w) {
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kCodesHelp)) return 0;
   const Args a(w, {{"out"}, {"threads"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   const std::filesystem::path dir = a.get_or("out", "results");

@@ -31,7 +31,7 @@ std::optional<std::filesystem::path> replaced_input(const std::filesystem::path&
       if (std::filesystem::equivalent(o, in, ec)) return in;
   return std::nullopt;
 }
-constexpr const char* kHelp = R"(usage: tagbench corpus build [options]
+constexpr const char* kCorpusHelp = R"(usage: tagbench corpus build [options]
        tagbench corpus list --from DIR
        tagbench corpus candidates --corpus DIR [--shard i/N] [--out FILE] [--jobs N]
        tagbench corpus merge --out FILE SHARD.bin...
@@ -308,10 +308,10 @@ int corpus_score(const Words& w) {
 
 int cmd_corpus(const Words& w) {
   if (w.empty() || w[0] == "--help" || w[0] == "-h") {
-    std::fputs(kHelp, w.empty() ? stderr : stdout);
+    std::fputs(kCorpusHelp, w.empty() ? stderr : stdout);
     return w.empty() ? 2 : 0;
   }
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kCorpusHelp)) return 0;
   constexpr Subcommand kSubcommands[] = {{"build", corpus_build},           {"list", corpus_list},
                                          {"candidates", corpus_candidates}, {"merge", corpus_merge},
                                          {"score", corpus_score}};

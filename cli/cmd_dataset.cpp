@@ -19,7 +19,7 @@ using namespace tagbench::bench;
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: tagbench dataset export angle|distance|conditions|sixdof --out DIR [--trials N] [--tag-size M]
+constexpr const char* kDatasetHelp = R"(usage: tagbench dataset export angle|distance|conditions|sixdof --out DIR [--trials N] [--tag-size M]
            [--seed S] [--family F] [--scene plain|realistic] [--distance D] [--angles LIST] [--distances LIST]
            [--conditions LIST] [--processes P] [--cache DIR] [--povray PATH]
            sixdof: [--frames N] [--distance-range A,B] [--phi-max DEG] [--lens K1,K2,P1,P2,K3] [--defocus-max PX]
@@ -56,7 +56,7 @@ Options: those of `tagbench raytrace` (see its --help) that choose the frames, a
 )";
 
 int export_dataset(const Words& w) {
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kDatasetHelp)) return 0;
   std::vector<OptionSpec> specs = sweep_option_specs();
   for (const char* o : {"processes", "cache", "povray", "out"}) specs.emplace_back(o);
   const Args a(w, specs);

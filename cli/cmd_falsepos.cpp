@@ -29,7 +29,7 @@ namespace tagbench::cli {
 using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
-constexpr const char* kHelp = R"(usage: tagbench falsepos complexity --candidates FILE [--out DIR] [--max-bits K] [--complexity LO-HI]
+constexpr const char* kFalseposHelp = R"(usage: tagbench falsepos complexity --candidates FILE [--out DIR] [--max-bits K] [--complexity LO-HI]
        tagbench falsepos codes --candidates FILE [--out DIR] [--max-bits K] [--family F...]
        tagbench falsepos detectors --corpus DIR [--out DIR] [--detectors LIST] [--families LIST]
        tagbench falsepos margin --corpus DIR [--out DIR] [--families LIST] [--thresholds LIST]
@@ -421,10 +421,10 @@ int falsepos_margin(const Words& w) {
 
 int cmd_falsepos(const Words& w) {
   if (w.empty() || w[0] == "--help" || w[0] == "-h") {
-    std::fputs(kHelp, w.empty() ? stderr : stdout);
+    std::fputs(kFalseposHelp, w.empty() ? stderr : stdout);
     return w.empty() ? 2 : 0;
   }
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kFalseposHelp)) return 0;
   constexpr Subcommand kSubcommands[] = {
       {"complexity", falsepos_complexity},
       {"codes", falsepos_codes},

@@ -19,7 +19,7 @@ namespace tagbench::cli {
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: tagbench family <list|show|stats|check|generate> ...
+constexpr const char* kFamilyHelp = R"(usage: tagbench family <list|show|stats|check|generate> ...
 
   family list                     built-in families: name, bits, h, complexity, count
   family show NAME [--format fam|cpp|hex]
@@ -270,12 +270,12 @@ int do_generate(const Words& w) {
 
 int cmd_family(const Words& w) {
   if (w.empty() || ((w[0] == "--help" || w[0] == "-h"))) {
-    std::fputs(kHelp, w.empty() ? stderr : stdout);
+    std::fputs(kFamilyHelp, w.empty() ? stderr : stdout);
     return w.empty() ? 2 : 0;
   }
   const Words rest(w.begin() + 1, w.end());
   if (w[0] == "generate") return do_generate(rest);
-  if (wants_help(rest, kHelp)) return 0;
+  if (wants_help(rest, kFamilyHelp)) return 0;
   if (w[0] == "list") return do_list(rest);
   if (w[0] == "show") return do_show(rest);
   if (w[0] == "stats") return do_stats(rest);

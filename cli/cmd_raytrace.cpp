@@ -23,7 +23,7 @@ using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: tagbench raytrace angle|distance|conditions|sixdof [--trials N] [--tag-size M] [--seed S]
+constexpr const char* kRaytraceHelp = R"(usage: tagbench raytrace angle|distance|conditions|sixdof [--trials N] [--tag-size M] [--seed S]
            [--detectors LIST] [--family F] [--scene plain|realistic] [--distance D] [--angles LIST] [--distances LIST]
            [--conditions LIST] [--processes P] [--cache DIR] [--povray PATH] [--out DIR] [--external-timeout S]
            sixdof: [--frames N] [--distance-range A,B] [--phi-max DEG] [--lens K1,K2,P1,P2,K3] [--defocus-max PX]
@@ -135,7 +135,7 @@ stderr and left out; the run goes on.
 }  // namespace
 
 int cmd_raytrace(const Words& w) {
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kRaytraceHelp)) return 0;
   const Args a(w, {{"trials"}, {"tag-size"}, {"seed"}, {"detectors"}, {"family"}, {"scene"}, {"distance"}, {"angles"},
                    {"distances"}, {"conditions"}, {"processes"}, {"cache"}, {"povray"}, {"out"}, {"external-timeout"},
                    {"frames"}, {"distance-range"}, {"phi-max"}, {"lens"}, {"defocus-max"}, {"noise-max"}, {"bins"}});

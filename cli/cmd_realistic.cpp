@@ -23,7 +23,7 @@ namespace tagbench::cli {
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: tagbench realistic [--frames N] [--seed S] [--family F] [--detectors LIST] [--out DIR]
+constexpr const char* kRealisticHelp = R"(usage: tagbench realistic [--frames N] [--seed S] [--family F] [--detectors LIST] [--out DIR]
            [--export-frames DIR] [--ceiling] [--ideal] [--camera-gamma G]
            [--sizes|--blur|--motion-blur|--jpeg-quality|--full-well|--ink|--face-light|--sharpen LO,HI]
 
@@ -132,7 +132,7 @@ void prepare_export_folder(const std::filesystem::path& dir) {
 }  // namespace
 
 int cmd_realistic(const Words& w) {
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kRealisticHelp)) return 0;
   const Args a(w, {{"frames"}, {"seed"}, {"family"}, {"detectors"}, {"out"}, {"export-frames"}, {"ceiling", false}, {"ideal", false},
                    {"sizes"}, {"blur"}, {"motion-blur"}, {"jpeg-quality"}, {"full-well"}, {"ink"}, {"face-light"}, {"sharpen"}, {"camera-gamma"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");

@@ -13,7 +13,7 @@
 namespace tagbench::cli {
 
 namespace {
-constexpr const char* kHelp = R"(usage: tagbench render --family F --id N [--px-per-cell K] [--tag-size-mm S] -o FILE
+constexpr const char* kRenderHelp = R"(usage: tagbench render --family F --id N [--px-per-cell K] [--tag-size-mm S] -o FILE
 
 Writes tag N of family F (a built-in name or a family file).
   -o, --out FILE       output; .png: (d+4)*K pixels square, white ring, black ring, payload
@@ -25,7 +25,7 @@ Writes tag N of family F (a built-in name or a family file).
 }
 
 int cmd_render(const Words& words) {
-  if (wants_help(words, kHelp)) return 0;
+  if (wants_help(words, kRenderHelp)) return 0;
   const Args a(words, {{"family"}, {"id"}, {"px-per-cell"}, {"tag-size-mm"}, {"out", true, false, "o"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   if (!a.has("family")) throw UsageError("--family is required");

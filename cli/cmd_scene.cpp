@@ -18,7 +18,7 @@ namespace tagbench::cli {
 using namespace tagbench::bench;  // the experiments these commands run
 
 namespace {
-constexpr const char* kHelp = R"(usage: tagbench scene [--width W] [--height H] [--family F] [--count N] [--seed S] -o FILE.png
+constexpr const char* kSceneHelp = R"(usage: tagbench scene [--width W] [--height H] [--family F] [--count N] [--seed S] -o FILE.png
 
 A synthetic scene: N tags of family F (default 36h11, 6 tags) in perspective on a cluttered,
 unevenly lit background, W x H pixels (default 640 x 480), determined by the seed (default 1).
@@ -27,7 +27,7 @@ Also writes FILE.json with the tags' ids and true corners.
 }
 
 int cmd_scene(const Words& w) {
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kSceneHelp)) return 0;
   const Args a(w, {{"width"}, {"height"}, {"family"}, {"count"}, {"seed"}, {"out", true, false, "o"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   if (!a.has("out")) throw UsageError("-o/--out is required");

@@ -19,7 +19,7 @@ using namespace tagbench::bench;
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: tagbench score DATASET DETECTIONS [--out DIR] [--name NAME] [--corner-order ORDER]
+constexpr const char* kScoreHelp = R"(usage: tagbench score DATASET DETECTIONS [--out DIR] [--name NAME] [--corner-order ORDER]
            [--pixel-offset P] [--tag-frame AXES]
 
 Scores a detector's output on a dataset written by `tagbench dataset export` exactly as the ray-traced
@@ -59,7 +59,7 @@ of the dataset or is given twice, a frame without a line, a line with "error".
 }  // namespace
 
 int cmd_score(const Words& w) {
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kScoreHelp)) return 0;
   const Args a(w, {{"out"}, {"name"}, {"corner-order"}, {"pixel-offset"}, {"tag-frame"}});
   if (a.positionals().size() != 2) throw UsageError("expected DATASET and DETECTIONS (see tagbench score --help)");
   const std::filesystem::path dataset_path = a.positionals()[0];

@@ -26,7 +26,7 @@ namespace tagbench::cli {
 
 namespace {
 
-constexpr const char* kHelp = R"(usage: tagbench speed [--sets LIST] [--corpus DIR] [--cache DIR] [--max-images N]
+constexpr const char* kSpeedHelp = R"(usage: tagbench speed [--sets LIST] [--corpus DIR] [--cache DIR] [--max-images N]
            [--realistic-frames N] [--seed S] [--scenes-per-size N] [--detectors LIST] [--pairs LIST] [--family F] [--repeats R] [--out DIR]
 
 Detector speed on whole image sets, each reported apart: every detector single-threaded, in this one
@@ -69,7 +69,7 @@ std::vector<std::pair<std::string, std::string>> parse_pairs(const std::string& 
 }  // namespace
 
 int cmd_speed(const Words& w) {
-  if (wants_help(w, kHelp)) return 0;
+  if (wants_help(w, kSpeedHelp)) return 0;
   const Args a(w, {{"sets"}, {"corpus"}, {"cache"}, {"max-images"}, {"scenes-per-size"}, {"realistic-frames"}, {"seed"}, {"detectors"},
                    {"pairs"}, {"family"}, {"repeats"}, {"out"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");

@@ -14,8 +14,6 @@ namespace tagbench::bench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 // Decodes the one quad `corners` with the area reader (area != nullptr) or the point reader.
 // Returns (decoded as the tag's own id, bits of its code read wrong or -1).
 std::pair<bool, int> decode_one(const ImageF& gray, const Corners& corners, const TagFamily& family, int id,
@@ -41,7 +39,7 @@ std::pair<bool, int> decode_one(const ImageF& gray, const Corners& corners, cons
 TruthReading read_at_truth(const ImageF& gray, const RealisticTag& tag, const TagFamily& family,
                            const DetectorOptions& opt) {
   TruthReading r;
-  r.contrast_levels = kNaN;
+  r.contrast_levels = std::numeric_limits<double>::quiet_NaN();
   if (const auto H = tag_homography(tag.corners)) {
     PayloadAreaOptions any = opt.payload_area;
     any.min_contrast = -1;  // measure the contrast whatever it is

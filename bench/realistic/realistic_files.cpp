@@ -49,7 +49,7 @@ std::string realistic_rows_csv(const RealisticResult& r) {
 std::string realistic_false_csv(const RealisticResult& r) {
   std::string o = "set,seed,family,frame,detector,detected_family,id,size_px,size_bin,center_x,center_y,at_tag\n";
   const std::string pre = settings_prefix(r);
-  for (const FalseDetection& fd : r.false_detections)
+  for (const RealisticFalseDetection& fd : r.false_detections)
     o += pre + std::to_string(r.frames[fd.frame].index) + "," + fd.detector + "," + fd.family + "," +
          std::to_string(fd.id) + "," + num(fd.size_px, "%.4f") + "," + size_bin_of(fd.size_px).name + "," +
          num(fd.centre.x(), "%.4f") + "," + num(fd.centre.y(), "%.4f") + "," + std::to_string(fd.at_tag) + "\n";

@@ -140,7 +140,7 @@ RealisticResult run_realistic(const RealisticRunSettings& settings, const std::f
       for (std::size_t k = 0; k < out.found.size(); ++k) {
         if (used[k]) continue;
         const Found& x = out.found[k];
-        FalseDetection fd{fi, s.detectors[d], x.family, x.id, quad_size(x.corners), centre(x.corners), -1};
+        RealisticFalseDetection fd{fi, s.detectors[d], x.family, x.id, quad_size(x.corners), centre(x.corners), -1};
         for (std::size_t t = 0; t < f.tags.size(); ++t)
           if (inside(f.tags[t].corners, fd.centre)) {
             fd.at_tag = static_cast<int>(t);
@@ -188,7 +188,7 @@ std::vector<RealisticSummaryRow> summarize_realistic(const RealisticResult& r) {
       a.err.push_back(sc.corner_rms_px);
     }
   }
-  for (const FalseDetection& fd : r.false_detections)
+  for (const RealisticFalseDetection& fd : r.false_detections)
     for (const std::string& bin : {size_bin_of(fd.size_px).name, std::string("all")}) ++slot(bin, fd.detector).row.false_detections;
   std::vector<RealisticSummaryRow> out;
   for (std::size_t bi = 0; bi < bins.size(); ++bi) {

@@ -53,7 +53,7 @@ struct TagScore {
   std::optional<LossExplanation> loss;
 };
 
-struct FalseDetection {
+struct RealisticFalseDetection {
   std::size_t frame = 0;
   std::string detector, family;
   int id = -1;
@@ -66,7 +66,7 @@ struct RealisticResult {
   RealisticRunSettings settings;     // resolved (detectors filled in)
   std::vector<RealisticFrameInfo> frames;
   std::vector<TagScore> scores;      // frame, tag, then detector order
-  std::vector<FalseDetection> false_detections;
+  std::vector<RealisticFalseDetection> false_detections;
   std::vector<bool> can_explain;     // per settings.detectors (Comparator::can_explain)
   double generate_seconds = 0, detect_seconds = 0;
 };
