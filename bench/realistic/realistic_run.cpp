@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "codes/families.hpp"
+#include "detect/homography.hpp"
 #include "stats.hpp"
 #include "raytrace/comparators.hpp"
 #include "raytrace/sweeps.hpp"
@@ -22,11 +23,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double quad_size(const Corners& c) {
-  double a = 0;
-  for (std::size_t i = 0; i < 4; ++i) a += c[i].x() * c[(i + 1) % 4].y() - c[(i + 1) % 4].x() * c[i].y();
-  return std::sqrt(std::abs(a) / 2);
-}
+double quad_size(const Corners& c) { return std::sqrt(std::abs(twice_signed_area(c)) / 2); }
 
 double corner_rms(const Corners& a, const Corners& b) {
   double s = 0;

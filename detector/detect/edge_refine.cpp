@@ -11,11 +11,11 @@
 namespace tagbench {
 namespace {
 
-struct Line {
+struct SideLine {
   Eigen::Vector2d point, dir;  // dir unit
 };
 
-std::optional<Eigen::Vector2d> intersect(const Line& a, const Line& b) {
+std::optional<Eigen::Vector2d> intersect(const SideLine& a, const SideLine& b) {
   const double den = a.dir.x() * b.dir.y() - a.dir.y() * b.dir.x();
   if (std::abs(den) < 1e-9) return std::nullopt;
   const Eigen::Vector2d d = b.point - a.point;
@@ -24,7 +24,7 @@ std::optional<Eigen::Vector2d> intersect(const Line& a, const Line& b) {
 }
 
 // Total least squares through weighted points; nullopt for fewer than 3 points or no spread.
-std::optional<Line> fit_line(const std::vector<Eigen::Vector3d>& pts) {  // (x, y, w)
+std::optional<SideLine> fit_line(const std::vector<Eigen::Vector3d>& pts) {  // (x, y, w)
   if (pts.size() < 3) return std::nullopt;
   double W = 0;
   Eigen::Vector2d c = Eigen::Vector2d::Zero();
@@ -43,7 +43,7 @@ std::optional<Line> fit_line(const std::vector<Eigen::Vector3d>& pts) {  // (x, 
   if (es.info() != Eigen::Success) return std::nullopt;
   const Eigen::Vector2d dir = es.eigenvectors().col(1);  // largest eigenvalue
   if (!dir.allFinite() || !(es.eigenvalues()(1) > 0)) return std::nullopt;
-  return Line{c, dir.normalized()};
+  return SideLine{c, dir.normalized()};
 }
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
@@ -77,7 +77,7 @@ std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const Ed
   const auto inside = [&](const Eigen::Vector2d& q) {  // sample_bilinear's domain
     return q.x() >= 0 && q.y() >= 0 && q.x() <= img.width - 1 && q.y() <= img.height - 1;
   };
-  std::array<Line, 4> lines;
+  std::array<SideLine, 4> lines;
   for (std::size_t i = 0; i < 4; ++i) {
     const Eigen::Vector2d a = c[i], b = c[(i + 1) % 4];
     const double len = (b - a).norm();
@@ -85,7 +85,7 @@ std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const Ed
     const Eigen::Vector2d dir = (b - a) / len;
     Eigen::Vector2d n(dir.y(), -dir.x());
     if (n.dot(0.5 * (a + b) - centre) < 0) n = -n;  // outward, whatever the winding
-    lines[i] = Line{a, dir};
+    lines[i] = SideLine{a, dir};
     const double range =
         std::clamp(opt.range_cell_fraction * len / opt.cells_across, opt.min_range_px, opt.max_range_px);
     const int samples = std::max(opt.min_samples, static_cast<int>(std::lround(len / opt.sample_spacing_px)));

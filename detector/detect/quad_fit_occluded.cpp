@@ -17,14 +17,14 @@ struct Moments {
   void add(const Moments& o) { x += o.x, y += o.y, xx += o.xx, xy += o.xy, yy += o.yy, n += o.n; }
 };
 
-struct Line {
+struct RunLine {
   double cx = 0, cy = 0, nx = 0, ny = 0, mse = 0;  // centroid, unit normal, mean squared distance
   Moments m;
   int count = 0;
 };
 
-Line fit(const Moments& m) {
-  Line l;
+RunLine fit(const Moments& m) {
+  RunLine l;
   l.m = m;
   l.count = static_cast<int>(m.n);
   l.cx = m.x / m.n, l.cy = m.y / m.n;
@@ -39,7 +39,7 @@ Line fit(const Moments& m) {
   return l;
 }
 
-double distance(const Line& l, double x, double y) { return l.nx * (x - l.cx) + l.ny * (y - l.cy); }
+double distance(const RunLine& l, double x, double y) { return l.nx * (x - l.cx) + l.ny * (y - l.cy); }
 
 // Douglas-Peucker over the cyclic sequence: vertex indices, increasing. False, with the split
 // abandoned, once there are more than `max_vertices` (no vertex is ever removed again, so the caller
@@ -155,18 +155,18 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
   }
   std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.m.n > b.m.n; });
   const double cos_merge = std::cos(opt.merge_angle_deg * M_PI / 180.0);
-  std::vector<Line> lines;
+  std::vector<RunLine> lines;
   std::vector<std::vector<int>> members;  // run indices per line
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    const Line lr = fit(runs[r].m);
+    const RunLine lr = fit(runs[r].m);
     bool merged = false;
     for (std::size_t g = 0; g < lines.size() && !merged; ++g) {
-      Line& lg = lines[g];
+      RunLine& lg = lines[g];
       // A short run's direction is noise (a pixel staircase): only the joint fit decides.
       if (lr.count >= 10 && std::abs(lg.nx * lr.nx + lg.ny * lr.ny) < cos_merge) continue;
       Moments m = lg.m;
       m.add(runs[r].m);
-      const Line both = fit(m);
+      const RunLine both = fit(m);
       if (both.mse > opt.max_line_mse || std::abs(distance(both, lr.cx, lr.cy)) > opt.merge_distance_px) continue;
       lg = both;
       members[g].push_back(static_cast<int>(r));
@@ -254,13 +254,13 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
           std::array<int, 4> set = {a, b, c, d};
           std::array<double, 4> ang{};
           for (int k = 0; k < 4; ++k) {
-            const Line& l = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(set[k])])];
+            const RunLine& l = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(set[k])])];
             ang[k] = pseudo_angle(static_cast<float>(l.cx - cx), static_cast<float>(l.cy - cy));
           }
           // Sort the set by the angle of each line's centroid around the centre.
           std::array<int, 4> idx = {0, 1, 2, 3};
           std::sort(idx.begin(), idx.end(), [&](int u, int v) { return ang[u] < ang[v]; });
-          std::array<const Line*, 4> L{};
+          std::array<const RunLine*, 4> L{};
           std::array<int, 4> lid{};
           for (int k = 0; k < 4; ++k) {
             lid[k] = set[static_cast<std::size_t>(idx[k])];
@@ -269,7 +269,7 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
           Corners q;
           bool ok = true;
           for (int k = 0; k < 4 && ok; ++k) {  // corner k: side k meets side k + 1
-            const Line &u = *L[k], &v = *L[(k + 1) & 3];
+            const RunLine &u = *L[k], &v = *L[(k + 1) & 3];
             if (std::abs(u.nx * v.nx + u.ny * v.ny) > max_dot) { ok = false; break; }
             const double det = u.nx * v.ny - u.ny * v.nx;
             const double du = u.nx * u.cx + u.ny * u.cy, dv = v.nx * v.cx + v.ny * v.cy;
@@ -287,14 +287,14 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
   // 4. No four lines: three sides seen in full and the fourth hidden but for pieces (or wholly):
   // the fourth side joins the far ends of the two sides beside it (occlusion_refit.hpp later fits
   // it to its visible parts).
-  const auto intersect = [](const Line& u, const Line& v) {
+  const auto intersect = [](const RunLine& u, const RunLine& v) {
     const double det = u.nx * v.ny - u.ny * v.nx;
     const double du = u.nx * u.cx + u.ny * u.cy, dv = v.nx * v.cx + v.ny * v.cy;
     return Eigen::Vector2d((du * v.ny - dv * u.ny) / det, (u.nx * dv - v.nx * du) / det);
   };
   // The far end of line li's points, seen from corner c, projected onto the line.
   const auto far_end = [&](int li, const Eigen::Vector2d& c) {
-    const Line& l = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(li)])];
+    const RunLine& l = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(li)])];
     Eigen::Vector2d dir(-l.ny, l.nx);
     if (dir.dot(Eigen::Vector2d(l.cx, l.cy) - c) < 0) dir = -dir;
     double t = 0;
@@ -310,7 +310,7 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
           std::array<int, 3> set = {a, b, c};
           std::array<double, 3> ang{};
           for (int k = 0; k < 3; ++k) {
-            const Line& l = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(set[k])])];
+            const RunLine& l = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(set[k])])];
             ang[k] = pseudo_angle(static_cast<float>(l.cx - cx), static_cast<float>(l.cy - cy));
           }
           std::array<int, 3> idx = {0, 1, 2};
@@ -318,9 +318,9 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
           set = {set[static_cast<std::size_t>(idx[0])], set[static_cast<std::size_t>(idx[1])], set[static_cast<std::size_t>(idx[2])]};
           for (int rot = 0; rot < 3; ++rot) {
             const int la = set[rot], lb = set[(rot + 1) % 3], lc = set[(rot + 2) % 3];
-            const Line &A = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(la)])];
-            const Line &B = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(lb)])];
-            const Line &C = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(lc)])];
+            const RunLine &A = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(la)])];
+            const RunLine &B = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(lb)])];
+            const RunLine &C = lines[static_cast<std::size_t>(order[static_cast<std::size_t>(lc)])];
             if (std::abs(A.nx * B.nx + A.ny * B.ny) > max_dot || std::abs(B.nx * C.nx + B.ny * C.ny) > max_dot) continue;
             const Eigen::Vector2d cab = intersect(A, B), cbc = intersect(B, C);
             const Corners q = {cab, cbc, far_end(lc, cbc), far_end(la, cab)};
