@@ -20,7 +20,7 @@ void faint_regions(const ThresholdScratch& windows, int w, int h, int t, float l
   s.tiles.data.resize(nt);
   for (std::size_t k = 0; k < nt; ++k) {
     const float d = windows.tile_max[k] - windows.tile_min[k];
-    s.tiles.data[k] = (d >= low) & (d < high) ? kTernaryLight : kTernaryUnknown;
+    s.tiles.data[k] = ((d >= low) & (d < high)) ? kTernaryLight : kTernaryUnknown;
   }
   connected_components(s.tiles, s.tile_scratch, s.tile_components, false);
   // Each region's box over its runs. A component's id is its first run (the smallest index: the
