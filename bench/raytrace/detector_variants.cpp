@@ -131,6 +131,8 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "ring_share") o.threshold_quads.fit.outer.ring_min_share = x;
     else if (k == "ring_step") o.threshold_quads.fit.outer.ring_min_step = x;
     else if (k == "ring_ratio") o.threshold_quads.fit.outer.min_side_ratio = x;
+    else if (k == "ring_slack") o.threshold_quads.fit.outer.ring_outward_slack = x;
+    else if (k == "ring_slack_sides") o.threshold_quads.fit.outer.ring_slack_sides = static_cast<int>(x);
     else if (k == "look") o.second_look.enabled = x != 0;
     else if (k == "look_max") o.second_look.max_size_px = x;
     else if (k == "look_min") o.second_look.min_size_px = x;
@@ -162,6 +164,8 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "dq_max") o.dark_outlines.max_size_px = x;
     else if (k == "dq_groups") o.dark_outlines.max_groups = static_cast<int>(x);
     else if (k == "dq_ring") o.dark_outlines.ring_check = x != 0;
+    else if (k == "dq_overlap") o.dark_outlines.overlap_clusters = x != 0;
+    else if (k == "dq_oring") o.dark_outlines.overlap_ring_check = x != 0;
     else if (k == "dq_light") o.dark_outlines.by_light = x != 0;
     else if (k == "dq_outline") o.dark_outlines.outline_only = x != 0;
     else if (k == "dq_check") o.dark_outlines.check_before_refining = x != 0;

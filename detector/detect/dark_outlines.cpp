@@ -22,6 +22,53 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
                                 "x" + std::to_string(img.height) + " image");
   s.joined.points.clear();
   s.joined.offsets.assign(1, 0);
+  s.from_cluster.clear();
+  // The groups by_component[i..j) (one component's, too many or too far apart to join whole), each at
+  // most max_size_px across, clustered by overlapping boxes; each cluster of min_groups..max_groups
+  // groups whose box is of tag size joined.
+  const auto join_overlapping = [&](std::size_t i, std::size_t j) {
+    s.cluster.clear();
+    for (std::size_t k = i; k < j; ++k) {
+      const DoubledBox b = bounding_box(groups.group(s.by_component[k].second));
+      if (0.5 * std::max(b.xmax - b.xmin, b.ymax - b.ymin) <= opt.max_size_px)
+        s.cluster.push_back({b, s.by_component[k].second, static_cast<std::uint32_t>(s.cluster.size())});
+    }
+    if (s.cluster.size() < 2) return;
+    std::sort(s.cluster.begin(), s.cluster.end(), [](const auto& a, const auto& b) { return a.box.xmin < b.box.xmin; });
+    for (std::uint32_t k = 0; k < s.cluster.size(); ++k) s.cluster[k].parent = k;
+    const auto root = [&](std::uint32_t k) {
+      while (s.cluster[k].parent != k) k = s.cluster[k].parent = s.cluster[s.cluster[k].parent].parent;
+      return k;
+    };
+    for (std::size_t a = 0; a < s.cluster.size(); ++a)
+      for (std::size_t b = a + 1; b < s.cluster.size() && s.cluster[b].box.xmin <= s.cluster[a].box.xmax; ++b)
+        if (s.cluster[b].box.ymin <= s.cluster[a].box.ymax && s.cluster[a].box.ymin <= s.cluster[b].box.ymax) {
+          const std::uint32_t ra = root(static_cast<std::uint32_t>(a)), rb = root(static_cast<std::uint32_t>(b));
+          if (ra != rb) s.cluster[std::max(ra, rb)].parent = std::min(ra, rb);
+        }
+    // Members in order of their root (each cluster's members in sweep order).
+    s.members.clear();
+    for (std::uint32_t k = 0; k < s.cluster.size(); ++k) s.members.emplace_back(root(k), k);
+    std::sort(s.members.begin(), s.members.end());
+    for (std::size_t a = 0, b = 0; a < s.members.size(); a = b) {
+      DoubledBox box = s.cluster[s.members[a].second].box;
+      for (b = a + 1; b < s.members.size() && s.members[b].first == s.members[a].first; ++b) {
+        const DoubledBox& o = s.cluster[s.members[b].second].box;
+        box = {std::min(box.xmin, o.xmin), std::max(box.xmax, o.xmax), std::min(box.ymin, o.ymin),
+               std::max(box.ymax, o.ymax)};
+      }
+      const double size = 0.5 * std::max(box.xmax - box.xmin, box.ymax - box.ymin);
+      if (b - a < static_cast<std::size_t>(opt.min_groups) || b - a > static_cast<std::size_t>(opt.max_groups) ||
+          size < opt.min_size_px || size > opt.max_size_px)
+        continue;
+      for (std::size_t k = a; k < b; ++k) {
+        const auto g = groups.group(s.cluster[s.members[k].second].group);
+        s.joined.points.insert(s.joined.points.end(), g.begin(), g.end());
+      }
+      s.joined.offsets.push_back(static_cast<std::uint32_t>(s.joined.points.size()));
+      s.from_cluster.push_back(true);
+    }
+  };
   // Joins the groups that share the component on one side of their first point (-1: the dark side,
   // as the step (gx, gy) points from the dark pixel to the light one; 1: the light side).
   const auto join_by = [&](int side) {
@@ -41,14 +88,18 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
       }
       const std::size_t n = j - i;
       const double size = 0.5 * std::max(box.xmax - box.xmin, box.ymax - box.ymin);
-      if (s.by_component[i].first == kNoComponent || n < static_cast<std::size_t>(opt.min_groups) ||
-          n > static_cast<std::size_t>(opt.max_groups) || size < opt.min_size_px || size > opt.max_size_px)
+      if (s.by_component[i].first == kNoComponent) continue;
+      if (n < static_cast<std::size_t>(opt.min_groups) || n > static_cast<std::size_t>(opt.max_groups) ||
+          size < opt.min_size_px || size > opt.max_size_px) {
+        if (opt.overlap_clusters && n >= static_cast<std::size_t>(opt.min_groups)) join_overlapping(i, j);
         continue;
+      }
       for (std::size_t k = i; k < j; ++k) {
         const auto g = groups.group(s.by_component[k].second);
         s.joined.points.insert(s.joined.points.end(), g.begin(), g.end());
       }
       s.joined.offsets.push_back(static_cast<std::uint32_t>(s.joined.points.size()));
+      s.from_cluster.push_back(false);
     }
   };
   join_by(-1);
@@ -60,11 +111,14 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
   if (!opt.outline_only) {
     fit_quads(s.joined, img, f, fit_scratch, s.fitted);
   } else {
+    QuadFitOptions fc = fit;  // an overlap cluster's fit: its ring is whole, its border the broken part
+    fc.outer.ring_check = fc.outer.ring_check && opt.overlap_ring_check;
     for (std::size_t g = 0; g < s.joined.count(); ++g) {
-      outer_outline_points(s.joined.group(g), f.outer, fit_scratch.outer, fit_scratch.side,
-                           static_cast<std::size_t>(std::max(f.min_points, 4)));
-      auto c = fit_outline(fit_scratch.side, img, f, fit_scratch);
-      if (!c && f.outer.innermost) c = fit_innermost_outline(img, f, fit_scratch);
+      const QuadFitOptions& fg = s.from_cluster[g] ? fc : f;
+      outer_outline_points(s.joined.group(g), fg.outer, fit_scratch.outer, fit_scratch.side,
+                           static_cast<std::size_t>(std::max(fg.min_points, 4)));
+      auto c = fit_outline(fit_scratch.side, img, fg, fit_scratch);
+      if (!c && fg.outer.innermost) c = fit_innermost_outline(img, fg, fit_scratch);
       if (c) s.fitted.push_back(fitted_quad(*c));
     }
   }

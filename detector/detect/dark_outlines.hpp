@@ -40,6 +40,18 @@ struct DarkOutlineOptions {
   // the ring of these tags is the broken part (on: 8 of the 19 realistic tags more, seed 1).
   bool ring_check = false;
   bool by_light = true;      // also join the groups that share a light component (a border broken into pieces)
+  // A component whose groups are too many or too far apart to join whole (a border broken into
+  // pieces that share the white ground, which borders dozens of other groups): its groups at most
+  // max_size_px across clustered by overlapping boxes, and each cluster of min_groups..max_groups
+  // groups and tag size joined. Off in every profile (session 36, variant key `dq_overlap`; realistic
+  // seeds 1 / 2, 200 frames: 1100 -> 1101, 1048 -> 1050 tags, none at 20-24 px, the same time; corpus
+  // 16h5 false detections 295 -> 302, 36h11 none. Without the ring check below +4 / +4 tags, 20-24 px
+  // +0 / +1, but a 36h11 false detection on the corpus; each two overlapping groups joined instead of
+  // whole clusters, +5 / +5, 20-24 px +0 / +2, for 6-8 % more time and a false detection.)
+  bool overlap_clusters = false;
+  // The fit's ring check (QuadFitOptions::outer.ring_check, where it is on) asked of the overlap
+  // clusters' outlines, whatever ring_check says: their ring is whole, their border the broken part.
+  bool overlap_ring_check = true;
   // Each joined outline fitted only by its outer outline (then its innermost outward outline), not by
   // the whole chain of fit_quads (the whole group, one side, the occluded fit): a joined outline
   // holds several outlines by construction.
@@ -56,6 +68,13 @@ struct DarkOutlineOptions {
 
 struct DarkOutlineScratch {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> by_component;  // (component, group)
+  struct Member {
+    DoubledBox box;
+    std::uint32_t group, parent;
+  };
+  std::vector<Member> cluster;                                   // overlap_clusters: one component's groups
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> members;  // (cluster root, index into cluster)
+  std::vector<bool> from_cluster;                                // per joined group: an overlap cluster's
   BoundaryGroups joined;
   std::vector<Quad> fitted;
   EdgeRefineScratch refine;

@@ -111,6 +111,8 @@ void validate_threshold_quads(const ThresholdQuadOptions& q) {
   within("threshold_quads.fit.outer.ring_min_share", q.fit.outer.ring_min_share, 0, 1);
   finite_at_least("threshold_quads.fit.outer.ring_min_step", q.fit.outer.ring_min_step, 0);
   within("threshold_quads.fit.outer.min_side_ratio", q.fit.outer.min_side_ratio, 0, 1);
+  within("threshold_quads.fit.outer.ring_outward_slack", q.fit.outer.ring_outward_slack, 0, 0.25);
+  int_within("threshold_quads.fit.outer.ring_slack_sides", q.fit.outer.ring_slack_sides, 0, 4);
 }
 
 void validate_occlusion_refit(const OcclusionRefitOptions& o) {

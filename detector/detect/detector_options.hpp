@@ -344,6 +344,10 @@ struct DetectorOptions {
   //                           [0, 45], fit.min_tag_width finite >= 0, fit.dark_inside or light_inside;
   //   threshold_quads.low_contrast  (low_contrast_quads.hpp) min_contrast, min_fill, min_aspect [0, 1];
   //                           max_size_px finite > 0; min_size_px, min_area_px, margin_px finite >= 0;
+  //   threshold_quads.fit.outer  (outer_outline.hpp) bins 8..1024; tolerance (0, 1); min_dropped,
+  //                           innermost_min_coverage, ring_min_share, min_side_ratio [0, 1];
+  //                           ring_outward_slack [0, 0.25]; ring_slack_sides 0..4; max_size_px > 0;
+  //                           min_corner_change_px, min_points_per_box_px, ring_min_step finite >= 0;
   //   threshold_quads.refine  (edge_refine.hpp) step_px, derivative_half_px, sample_spacing_px,
   //                           range_cell_fraction, max_corner_shift_px, gamma finite > 0;
   //                           0 < min_range_px <= max_range_px, finite; end_margin [0, 0.5);

@@ -127,8 +127,9 @@ bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOpt
   constexpr double kIn = 1.0 / 16, kOut = -1.0 / 16;
   double sum = 0;
   bool every_side = true;
+  int slack_sides = 0;  // sides that pass only with the slack
   for (int side = 0; side < 4; ++side) {
-    int up = 0;
+    int up = 0, up_plain = 0;
     for (const double t : {0.2, 0.4, 0.6, 0.8}) {
       // side 0: v = 0 (q0 -> q1), 1: u = 1, 2: v = 1, 3: u = 0; d is the depth into the square.
       auto uv = [&](double d) -> Eigen::Vector2d {
@@ -139,14 +140,19 @@ bool outline_has_ring(const Corners& q, const ImageF& img, const OuterOutlineOpt
           default: return at(d, t);
         }
       };
-      const Eigen::Vector2d pi = uv(kIn), po = uv(kOut);
-      const float step = sample(img, po) - sample(img, pi);
+      float step = sample(img, uv(kOut)) - sample(img, uv(kIn));
+      up_plain += step > 0;
+      // The pair moved outward too: the outline is the threshold's, which a blurred 1-cell border
+      // with light payload cells behind it can leave a pixel or two inside the square's edge.
+      if (opt.ring_outward_slack > 0)
+        step = std::max(step, sample(img, uv(kOut - opt.ring_outward_slack)) - sample(img, uv(kIn - opt.ring_outward_slack)));
       up += step > 0;
       sum += step;
     }
     every_side = every_side && up >= opt.ring_min_share * 4;
+    slack_sides += up_plain < opt.ring_min_share * 4;
   }
-  if (!every_side || sum / 16 < opt.ring_min_step) return false;
+  if (!every_side || slack_sides > opt.ring_slack_sides || sum / 16 < opt.ring_min_step) return false;
   // The shape: the shortest side at least min_side_ratio of the longest (a square tilted 65 degrees
   // away keeps about 0.4); the slivers an outline of texture gives fail here.
   const auto [shortest, longest] = side_length_range(q);

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "detect/boundaries.hpp"
@@ -122,6 +123,48 @@ TEST(DarkOutlines, ThePreFilterBeforeRefiningLeavesRefusedQuadsAsFitted) {
   const auto a = quads(off, plain), b = quads(off, checked);
   ASSERT_TRUE(square_quad(a) && square_quad(b));
   EXPECT_EQ(square_quad(a)->corners, square_quad(b)->corners);
+}
+
+// A black border 3 px wide (the square's edges at 27.5 and 52.5 px) broken at the top near its right
+// end and at the bottom near its left end, on a light ground that runs into the square's light
+// inside through both gaps: two dark pieces, each one group with the ground, whose boxes overlap.
+// Ten dark dots round it border the same light ground, so that ground has 12 groups, too many to join
+// whole (max_groups 8).
+ImageF broken_border_image() {
+  ImageF img(80, 80, 0.8f);
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 80; ++x) {
+      const int d = std::max(std::abs(x - 40), std::abs(y - 40));
+      const bool gap = (y < 40 && x >= 45 && x <= 47) || (y > 40 && x >= 33 && x <= 35);
+      if (d >= 10 && d <= 12 && !gap) img.at(x, y) = 0.1f;
+    }
+  for (int k = 0; k < 10; ++k) {  // 5 x 5 dots on a ring 22 px out
+    const double a = 2 * 3.14159265358979 * k / 10;
+    const int cx = 40 + static_cast<int>(std::lround(22 * std::cos(a))), cy = 40 + static_cast<int>(std::lround(22 * std::sin(a)));
+    for (int y = cy - 2; y <= cy + 2; ++y)
+      for (int x = cx - 2; x <= cx + 2; ++x) img.at(x, y) = 0.1f;
+  }
+  return img;
+}
+
+// overlap_clusters: the two pieces, in no joinable component (each dark piece has one group; the light
+// ground has twelve), are joined by their overlapping boxes, and their outline is the square's.
+TEST(DarkOutlines, OverlapClustersJoinABorderBrokenInTwo) {
+  const ImageF img = broken_border_image();
+  Pass p(img);
+  const DetectorOptions o;
+  QuadFitScratch fs;
+  std::vector<Quad> own;
+  fit_quads(p.groups, img, o.threshold_quads.fit, fs, own);
+  EXPECT_FALSE(finds_square(own));
+  DarkOutlineScratch s;
+  const DarkOutlineOptions whole{.enabled = true}, clusters{.enabled = true, .overlap_clusters = true};
+  EXPECT_FALSE(finds_square(dark_outline_quads(p.groups, p.comp, img, {}, o.threshold_quads.fit,
+                                               o.threshold_quads.refine, whole, fs, s)));
+  EXPECT_TRUE(finds_square(dark_outline_quads(p.groups, p.comp, img, {}, o.threshold_quads.fit,
+                                              o.threshold_quads.refine, clusters, fs, s)));
+  // The dots stay apart (their boxes overlap nothing): no joined outline but the square's.
+  EXPECT_EQ(s.joined.count(), 1u);
 }
 
 TEST(DarkOutlines, ComponentsOfAnotherImageAreRefused) {

@@ -263,6 +263,24 @@ TEST(OuterOutline, RingCheckWantsADarkSquareInsideALightRing) {
   EXPECT_TRUE(outline_has_ring(r, ringed_square(0.1f), opt));
 }
 
+// ring_outward_slack: a quad whose right side lies 2 px inside the square's edge, where a light
+// payload cell lies 2-5 px inside (a blurred 1-cell border the threshold cut into): the pairs of that
+// side step down, and the check refuses the quad; read also 1/16 of the width (1.25 px) further out,
+// they reach the border and the ring, and it passes. A flat image still fails with the slack.
+TEST(OuterOutline, RingCheckSlackReadsASideLeftInsideTheEdge) {
+  ImageF img = ringed_square(0.2f);  // dark square 30..50 on a lighter ground
+  for (int y = 33; y <= 47; ++y)
+    for (int x = 44; x <= 47; ++x) img.at(x, y) = 0.6f;  // the light cell behind the right border
+  const Corners q = {Eigen::Vector2d(30, 30), Eigen::Vector2d(48, 30), Eigen::Vector2d(48, 50),
+                     Eigen::Vector2d(30, 50)};
+  OuterOutlineOptions opt;
+  EXPECT_FALSE(outline_has_ring(q, img, opt));
+  opt.ring_outward_slack = 1.0 / 16;
+  EXPECT_TRUE(outline_has_ring(q, img, opt));
+  EXPECT_FALSE(outline_has_ring(q, ringed_square(0.2f, true), opt));
+  EXPECT_FALSE(outline_has_ring(q, ringed_square(-0.2f), opt));  // light square on a dark ground
+}
+
 // A dark bar 21 x 5 px in a lighter ground has its ring, but is no tag seen at up to 70 degrees:
 // min_side_ratio (shortest / longest side) refuses it.
 TEST(OuterOutline, RingCheckRefusesASliver) {
