@@ -55,6 +55,7 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "tblur") o.threshold_quads.blur_sigma = x;
     else if (k == "nblur") o.threshold_quads.noise_blur.enabled = x != 0;
     else if (k == "soft_area") o.soft_decode.min_area_ratio = x;
+    else if (k == "soft_opp") o.soft_decode.min_opposite_ratio = x;
     else if (k == "nblur_min") o.threshold_quads.noise_blur.min_noise_grey = x;
     else if (k == "nblur_sigma") o.threshold_quads.noise_blur.sigma = x;
     else if (k == "minpts") o.threshold_quads.fit.min_points = static_cast<int>(x);

@@ -126,7 +126,8 @@ std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const 
     if (!have && area_opt && area_opt->self_threshold.enabled)
       have = decode_self_threshold(decode_image, *H, families, max_hamming, hamming_by_family, *area_opt, best);
     if (!have && soft && soft->enabled &&
-        (soft->min_area_ratio <= 0 || quad_area_ratio(q.corners) >= soft->min_area_ratio))
+        (soft->min_area_ratio <= 0 || quad_area_ratio(q.corners) >= soft->min_area_ratio) &&
+        (soft->min_opposite_ratio <= 0 || quad_opposite_ratio(q.corners) >= soft->min_opposite_ratio))
       have = soft_decode_readings(families, by_width, *soft, best);
     if (readings)
       for (auto& r : by_width)

@@ -350,6 +350,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("soft_decode.max_distance", soft_decode.max_distance, 0);
   finite_at_least("soft_decode.min_gap", soft_decode.min_gap, 0);
   finite_at_least("soft_decode.confidence_cap", soft_decode.confidence_cap, 0);
+  within("soft_decode.min_opposite_ratio", soft_decode.min_opposite_ratio, 0, 1);
 
   if (camera) {
     // Bounds far outside any camera and tag, inside which the pose's arithmetic stays well scaled

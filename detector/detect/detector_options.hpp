@@ -368,6 +368,7 @@ struct DetectorOptions {
   //                           finite > 0, kink.max_fold_offset [0, 0.9], kink.cells_across >= 1;
   //   payload_area            samples_per_side 1..16; sample_extent [0, 1]; sharpening finite >= 0;
   //   soft_decode             max_bit_errors 0..64; max_distance, min_gap, confidence_cap finite >= 0;
+  //                           min_opposite_ratio [0, 1];
   //   ring_quads              min_size_px, min_hole finite >= 0; max_size_px, max_fill finite > 0;
   //   coarse_pass             min_contrast [0, 1]; min_tag_px finite >= 0;
   //   dark_outlines           min_size_px finite >= 0, max_size_px finite > 0; 2 <= min_groups <= max_groups;

@@ -58,6 +58,15 @@ double quad_area_ratio(const Corners& corners) {
   return mean_side > 0 ? std::abs(twice_signed_area(corners)) / 2 / (mean_side * mean_side) : 0.0;
 }
 
+double quad_opposite_ratio(const Corners& corners) {
+  double worst = 1;
+  for (int k = 0; k < 2; ++k) {
+    const double a = (corners[k + 1] - corners[k]).norm(), b = (corners[(k + 3) % 4] - corners[k + 2]).norm();
+    worst = std::min(worst, std::max(a, b) > 0 ? std::min(a, b) / std::max(a, b) : 0.0);
+  }
+  return worst;
+}
+
 std::optional<DecodeResult> soft_decode(const TagFamily& family, const PayloadReading& reading,
                                         const SoftDecodeOptions& opt) {
   if (family.min_hamming() < opt.min_family_hamming || static_cast<int>(reading.confidence.size()) != family.bits())

@@ -48,7 +48,18 @@ struct SoftDecodeOptions {
   // with 0.4 none, and realistic seed 1 (plain and sharpened) and the angle sweep row for row the
   // same. Variant key `soft_area`; decode_quads.hpp applies it.
   double min_area_ratio = 0.4;
+  // No soft decoding of a quad whose opposite sides differ more than this: the shorter of each pair
+  // over the longer, the smaller of the two ratios (1 for any parallelogram; a tag seen from far
+  // enough for its payload to be hard to read is imaged nearly affinely); 0 = off, [0, 1]. Variant
+  // key `soft_opp`. Off in every profile until a make bench has measured it (session 36: at 0.8
+  // realistic seeds 1 / 2 every tag the same, seed 2's one false detection gone; with the ring
+  // check's outward slack, OuterOutlineOptions, it removes the 36h11 corpus false detection the slack
+  // let through, a 0.72 quad soft decoded six bits off).
+  double min_opposite_ratio = 0;
 };
+
+// The smaller of a quad's two opposite-side ratios (shorter / longer; 0 for a degenerate side).
+double quad_opposite_ratio(const Corners& corners);
 
 // A quad's area over its mean side squared (0 for a degenerate one): how far from a face-on square.
 double quad_area_ratio(const Corners& corners);

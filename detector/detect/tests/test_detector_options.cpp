@@ -169,6 +169,7 @@ TEST(DetectorOptions, EveryFieldIsChecked) {
        [](DetectorOptions& o) { o.threshold_quads.fit.outer.min_points_per_box_px = -1; }, "-1"},
       {"threshold_quads.fit.outer.innermost_min_coverage",
        [](DetectorOptions& o) { o.threshold_quads.fit.outer.innermost_min_coverage = 1.5; }, "1.5"},
+      {"soft_decode.min_opposite_ratio", [](DetectorOptions& o) { o.soft_decode.min_opposite_ratio = 1.5; }, "1.5"},
       {"threshold_quads.fit.outer.ring_outward_slack",
        [](DetectorOptions& o) { o.threshold_quads.fit.outer.ring_outward_slack = 0.3; }, "0.3"},
       {"threshold_quads.fit.outer.ring_slack_sides",

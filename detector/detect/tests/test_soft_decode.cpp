@@ -212,4 +212,43 @@ TEST(SoftDecode, FlatQuadsAreNotSoftDecodedUnderTheAreaRatio) {
   EXPECT_EQ(checked, 2);
 }
 
+// The guard against quads no distant square gives (SoftDecodeOptions::min_opposite_ratio): the
+// shorter of each pair of opposite sides over the longer, the smaller pair's; a tag rendered through a
+// trapezoid (top 20 px, bottom 15 px: 0.75) that only the soft decoder reads is soft decoded under a
+// bound of 0.7 and not under 0.8.
+TEST(SoftDecode, QuadsWhoseOppositeSidesDifferAreNotSoftDecodedUnderTheRatio) {
+  using V = Eigen::Vector2d;
+  EXPECT_NEAR(quad_opposite_ratio({V(0, 0), V(10, 0), V(10, 10), V(0, 10)}), 1.0, 1e-12);
+  EXPECT_NEAR(quad_opposite_ratio({V(0, 0), V(10, 0), V(13, 6), V(3, 6)}), 1.0, 1e-12);  // a parallelogram
+  EXPECT_NEAR(quad_opposite_ratio({V(0, 0), V(20, 0), V(17.5, 10), V(2.5, 10)}), 0.75, 1e-12);
+  EXPECT_EQ(quad_opposite_ratio({V(1, 1), V(1, 1), V(1, 1), V(1, 1)}), 0.0);
+
+  const TagFamily& f = builtin_family("36h11");
+  const std::vector<TagFamily> families{f};
+  std::mt19937 rng(23);
+  std::normal_distribution<float> noise(0.0f, 0.045f);
+  PayloadAreaOptions area;
+  SoftDecodeOptions soft;
+  int checked = 0;
+  for (int id = 0; id < 300 && checked < 2; ++id) {
+    const Corners c = {V(15, 15), V(35, 15), V(32.5, 35), V(17.5, 35)};
+    ASSERT_NEAR(quad_opposite_ratio(c), 0.75, 1e-12);
+    const Eigen::Matrix3d H = synth::homography_for(c);
+    ImageF img = gaussian_blur(synth::render_tag(50, 50, tag_cells(f, id), H, 0.5f, 8, 0.42f, 0.58f), 1.1);
+    for (auto& v : img.data) v += noise(rng);
+    const auto r = read_payload_area(img, H, 6);
+    if (!r || f.decode(r->bits, 3) || !soft_decode(f, *r)) continue;
+    Quad q;
+    q.corners = c;
+    soft.min_opposite_ratio = 0.7;
+    const auto yes = decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft);
+    ASSERT_EQ(yes.size(), 1u);
+    EXPECT_EQ(yes[0].id, id);
+    soft.min_opposite_ratio = 0.8;
+    EXPECT_TRUE(decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft).empty());
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2);
+}
+
 }  // namespace test_soft_decode
