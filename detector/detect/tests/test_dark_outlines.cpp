@@ -148,21 +148,23 @@ ImageF broken_border_image() {
 }
 
 // overlap_clusters: the two pieces, in no joinable component (each dark piece has one group; the light
-// ground has twelve), are joined by their overlapping boxes, and their outline is the square's.
+// ground has twelve), are joined by their overlapping boxes, and their outline is the square's; no
+// group alone gives it.
 TEST(DarkOutlines, OverlapClustersJoinABorderBrokenInTwo) {
   const ImageF img = broken_border_image();
   Pass p(img);
-  const DetectorOptions o;
+  const QuadFitOptions fit = DetectorOptions{}.threshold_quads.fit;
+  const EdgeRefineOptions refine = DetectorOptions{}.threshold_quads.refine;
   QuadFitScratch fs;
-  std::vector<Quad> own;
-  fit_quads(p.groups, img, o.threshold_quads.fit, fs, own);
-  EXPECT_FALSE(finds_square(own));
   DarkOutlineScratch s;
-  const DarkOutlineOptions whole{.enabled = true}, clusters{.enabled = true, .overlap_clusters = true};
-  EXPECT_FALSE(finds_square(dark_outline_quads(p.groups, p.comp, img, {}, o.threshold_quads.fit,
-                                               o.threshold_quads.refine, whole, fs, s)));
-  EXPECT_TRUE(finds_square(dark_outline_quads(p.groups, p.comp, img, {}, o.threshold_quads.fit,
-                                              o.threshold_quads.refine, clusters, fs, s)));
+  const auto found = [&](const DarkOutlineOptions& opt) {
+    return finds_square(dark_outline_quads(p.groups, p.comp, img, {}, fit, refine, opt, fs, s));
+  };
+  std::vector<Quad> own;
+  fit_quads(p.groups, img, fit, fs, own);
+  EXPECT_FALSE(finds_square(own));
+  EXPECT_FALSE(found(DarkOutlineOptions{.enabled = true}));
+  EXPECT_TRUE(found(DarkOutlineOptions{.enabled = true, .overlap_clusters = true}));
   // The dots stay apart (their boxes overlap nothing): no joined outline but the square's.
   EXPECT_EQ(s.joined.count(), 1u);
 }

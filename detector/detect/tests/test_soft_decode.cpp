@@ -171,6 +171,31 @@ TEST(SoftDecode, ReadsLowContrastNoisyTagsTheHardDecoderMisses) {
   EXPECT_LT(hard, 60);
 }
 
+namespace {
+// Faint, blurred, noisy renders of 36h11 tags (ids from 0, below max_id) through corners_of(id) on a
+// 50 x 50 image; for each of the first `want` that only the soft decoder reads (the hard decoder
+// refuses it within 3 bits), check(image, the quad of those corners, id). Returns how many were checked.
+template <class CornersOf, class Check>
+int for_soft_only_tags(unsigned seed, int max_id, int want, CornersOf corners_of, Check check) {
+  const TagFamily& f = builtin_family("36h11");
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.0f, 0.045f);
+  int checked = 0;
+  for (int id = 0; id < max_id && checked < want; ++id) {
+    Quad q;
+    q.corners = corners_of(id);
+    const Eigen::Matrix3d H = synth::homography_for(q.corners);
+    ImageF img = gaussian_blur(synth::render_tag(50, 50, tag_cells(f, id), H, 0.5f, 8, 0.42f, 0.58f), 1.1);
+    for (auto& v : img.data) v += noise(rng);
+    const auto r = read_payload_area(img, H, 6);
+    if (!r || f.decode(r->bits, 3) || !soft_decode(f, *r)) continue;
+    check(img, q, id);
+    ++checked;
+  }
+  return checked;
+}
+}  // namespace
+
 // The guard against slivers (SoftDecodeOptions::min_area_ratio): area over mean side squared is 1 for
 // a square, about 0.5 for one seen at 80 degrees, 0 for a degenerate quad; a quad under the ratio is
 // not soft decoded by decode_quads, one at or over it is.
@@ -183,32 +208,20 @@ TEST(SoftDecode, FlatQuadsAreNotSoftDecodedUnderTheAreaRatio) {
   EXPECT_EQ(quad_area_ratio({V(1, 1), V(1, 1), V(1, 1), V(1, 1)}), 0.0);
 
   // A tag only the soft decoder reads (as in the test above), through decode_quads.
-  const TagFamily& f = builtin_family("36h11");
-  const std::vector<TagFamily> families{f};
-  std::mt19937 rng(17);
-  std::normal_distribution<float> noise(0.0f, 0.045f);
+  const std::vector<TagFamily> families{builtin_family("36h11")};
   PayloadAreaOptions area;
   SoftDecodeOptions soft;
-  int checked = 0;
-  for (int id = 0; id < 60 && checked < 2; ++id) {
-    const Corners c = synth::square_tag_corners(25.2 + 0.11 * id, 24.7, 20.0, 0.13 * id);
-    const Eigen::Matrix3d H = synth::homography_for(c);
-    ImageF img = gaussian_blur(synth::render_tag(50, 50, tag_cells(f, id), H, 0.5f, 8, 0.42f, 0.58f), 1.1);
-    for (auto& v : img.data) v += noise(rng);
-    const auto r = read_payload_area(img, H, 6);
-    if (!r || f.decode(r->bits, 3) || !soft_decode(f, *r)) continue;
-    Quad q;
-    q.corners = c;
+  const auto square = [](int id) { return synth::square_tag_corners(25.2 + 0.11 * id, 24.7, 20.0, 0.13 * id); };
+  const int checked = for_soft_only_tags(17, 60, 2, square, [&](const ImageF& img, const Quad& q, int id) {
     soft.min_area_ratio = 0;
     const auto yes = decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft);
     ASSERT_EQ(yes.size(), 1u);
     EXPECT_EQ(yes[0].id, id);
-    soft.min_area_ratio = 0.99 * quad_area_ratio(c);
+    soft.min_area_ratio = 0.99 * quad_area_ratio(q.corners);
     EXPECT_EQ(decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft).size(), 1u);
-    soft.min_area_ratio = 1.01 * quad_area_ratio(c);
+    soft.min_area_ratio = 1.01 * quad_area_ratio(q.corners);
     EXPECT_TRUE(decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft).empty());
-    ++checked;
-  }
+  });
   EXPECT_EQ(checked, 2);
 }
 
@@ -223,31 +236,19 @@ TEST(SoftDecode, QuadsWhoseOppositeSidesDifferAreNotSoftDecodedUnderTheRatio) {
   EXPECT_NEAR(quad_opposite_ratio({V(0, 0), V(20, 0), V(17.5, 10), V(2.5, 10)}), 0.75, 1e-12);
   EXPECT_EQ(quad_opposite_ratio({V(1, 1), V(1, 1), V(1, 1), V(1, 1)}), 0.0);
 
-  const TagFamily& f = builtin_family("36h11");
-  const std::vector<TagFamily> families{f};
-  std::mt19937 rng(23);
-  std::normal_distribution<float> noise(0.0f, 0.045f);
+  const std::vector<TagFamily> families{builtin_family("36h11")};
   PayloadAreaOptions area;
   SoftDecodeOptions soft;
-  int checked = 0;
-  for (int id = 0; id < 300 && checked < 2; ++id) {
-    const Corners c = {V(15, 15), V(35, 15), V(32.5, 35), V(17.5, 35)};
-    ASSERT_NEAR(quad_opposite_ratio(c), 0.75, 1e-12);
-    const Eigen::Matrix3d H = synth::homography_for(c);
-    ImageF img = gaussian_blur(synth::render_tag(50, 50, tag_cells(f, id), H, 0.5f, 8, 0.42f, 0.58f), 1.1);
-    for (auto& v : img.data) v += noise(rng);
-    const auto r = read_payload_area(img, H, 6);
-    if (!r || f.decode(r->bits, 3) || !soft_decode(f, *r)) continue;
-    Quad q;
-    q.corners = c;
+  const Corners trapezoid = {V(15, 15), V(35, 15), V(32.5, 35), V(17.5, 35)};
+  ASSERT_NEAR(quad_opposite_ratio(trapezoid), 0.75, 1e-12);
+  const int checked = for_soft_only_tags(23, 300, 2, [&](int) { return trapezoid; }, [&](const ImageF& img, const Quad& q, int id) {
     soft.min_opposite_ratio = 0.7;
     const auto yes = decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft);
     ASSERT_EQ(yes.size(), 1u);
     EXPECT_EQ(yes[0].id, id);
     soft.min_opposite_ratio = 0.8;
     EXPECT_TRUE(decode_quads(img, std::span(&q, 1), families, 3, PayloadOptions{}, &area, nullptr, nullptr, true, &soft).empty());
-    ++checked;
-  }
+  });
   EXPECT_EQ(checked, 2);
 }
 
