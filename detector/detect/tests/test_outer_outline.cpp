@@ -279,6 +279,11 @@ TEST(OuterOutline, RingCheckSlackReadsASideLeftInsideTheEdge) {
   EXPECT_TRUE(outline_has_ring(q, img, opt));
   EXPECT_FALSE(outline_has_ring(q, ringed_square(0.2f, true), opt));
   EXPECT_FALSE(outline_has_ring(q, ringed_square(-0.2f), opt));  // light square on a dark ground
+  // ring_slack_sides: this quad needs the slack on one side only.
+  opt.ring_slack_sides = 0;
+  EXPECT_FALSE(outline_has_ring(q, img, opt));
+  opt.ring_slack_sides = 1;
+  EXPECT_TRUE(outline_has_ring(q, img, opt));
 }
 
 // A dark bar 21 x 5 px in a lighter ground has its ring, but is no tag seen at up to 70 degrees:
