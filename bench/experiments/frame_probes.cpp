@@ -31,6 +31,14 @@
 using namespace tagbench;
 using namespace tagbench::bench;
 
+namespace {
+Eigen::Vector2d centre(const Quad& q) { return (q.corners[0] + q.corners[1] + q.corners[2] + q.corners[3]) / 4; }
+void print_corners(const char* label, const Corners& c) {
+  std::printf("%s %.1f,%.1f %.1f,%.1f %.1f,%.1f %.1f,%.1f\n", label, c[0].x(), c[0].y(), c[1].x(), c[1].y(), c[2].x(),
+              c[2].y(), c[3].x(), c[3].y());
+}
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc >= 3 && std::string(argv[1]) == "time") {  // frame_probes time FRAMES [KEY=V ...]: stage ms
     DetectorOptions opt = detector_options_from_args(std::span<char* const>(argv + 3, static_cast<std::size_t>(argc - 3)));
@@ -97,7 +105,7 @@ int main(int argc, char** argv) {
         if (std::max(w, h) < 8 || std::max(w, h) > 50 || static_cast<double>(g.group(i).size()) < 4 * (w + h)) continue;
         bool has_quad = false;
         for (const Quad& q : tr.quads) {
-          const Eigen::Vector2d c = (q.corners[0] + q.corners[1] + q.corners[2] + q.corners[3]) / 4;
+          const Eigen::Vector2d c = centre(q);
           if (c.x() >= b.xmin / 2.0 && c.x() <= b.xmax / 2.0 && c.y() >= b.ymin / 2.0 && c.y() <= b.ymax / 2.0) has_quad = true;
         }
         if (has_quad && !std::getenv("PROBE_ALL")) continue;
@@ -156,9 +164,9 @@ int main(int argc, char** argv) {
         std::printf("joined %zu: %zu pts box %.1f..%.1f x %.1f..%.1f\n", k, ds.joined.group(k).size(), b.xmin / 2.0, b.xmax / 2.0, b.ymin / 2.0, b.ymax / 2.0);
       }
       for (const Quad& q : quads) {
-        const Eigen::Vector2d c = (q.corners[0] + q.corners[1] + q.corners[2] + q.corners[3]) / 4;
+        const Eigen::Vector2d c = centre(q);
         if (std::abs(c.x() - px) > rad || std::abs(c.y() - py) > rad) continue;
-        std::printf("quad %.1f,%.1f %.1f,%.1f %.1f,%.1f %.1f,%.1f\n", q.corners[0].x(), q.corners[0].y(), q.corners[1].x(), q.corners[1].y(), q.corners[2].x(), q.corners[2].y(), q.corners[3].x(), q.corners[3].y());
+        print_corners("quad", q.corners);
       }
       return 0;
     }
@@ -177,7 +185,7 @@ int main(int argc, char** argv) {
       nr.outer.ring_check = false;
       const auto c_nr = fit_outline(fs.side, img, nr, fs);
       std::printf("union of %d groups, %zu pts: fit %s ring-off %s\n", n, u.size(), c ? "yes" : "no", c_nr ? "yes" : "no");
-      if (c_nr) std::printf("   ringoff corners %.1f,%.1f %.1f,%.1f %.1f,%.1f %.1f,%.1f\n", (*c_nr)[0].x(), (*c_nr)[0].y(), (*c_nr)[1].x(), (*c_nr)[1].y(), (*c_nr)[2].x(), (*c_nr)[2].y(), (*c_nr)[3].x(), (*c_nr)[3].y());
+      if (c_nr) print_corners("   ringoff corners", *c_nr);
       return 0;
     }
     for (std::size_t i = 0; i < g.count(); ++i) {
@@ -199,7 +207,7 @@ int main(int argc, char** argv) {
       if (std::getenv("PROBE_DUMP"))
         for (const auto& p : fs.side) std::printf("  P %.1f %.1f\n", p.x2 / 2.0, p.y2 / 2.0);
       std::printf("   ring-off %s loose %s whole %s\n", c_nr ? "yes" : "no", c_lo ? "yes" : "no", c_whole ? "yes" : "no");
-      if (c_nr) std::printf("   ringoff corners %.1f,%.1f %.1f,%.1f %.1f,%.1f %.1f,%.1f\n", (*c_nr)[0].x(), (*c_nr)[0].y(), (*c_nr)[1].x(), (*c_nr)[1].y(), (*c_nr)[2].x(), (*c_nr)[2].y(), (*c_nr)[3].x(), (*c_nr)[3].y());
+      if (c_nr) print_corners("   ringoff corners", *c_nr);
       std::printf("group %zu: %zu pts box %.1f..%.1f x %.1f..%.1f dark %u (%u px, %d groups) light %u (%u px, %d groups) outer %zu fit %s\n",
                   i, g.group(i).size(), x0, x1, y0, y1, dark_of[i], dark_of[i] < comp.size.size() ? comp.size[dark_of[i]] : 0, nd,
                   light_of[i], light_of[i] < comp.size.size() ? comp.size[light_of[i]] : 0, nl, fs.side.size(), c ? "yes" : "no");

@@ -9,6 +9,13 @@
 
 namespace tagbench {
 
+namespace {
+DoubledBox merged(const DoubledBox& a, const DoubledBox& b) {
+  return {std::min(a.xmin, b.xmin), std::max(a.xmax, b.xmax), std::min(a.ymin, b.ymin), std::max(a.ymax, b.ymax)};
+}
+double longer_side_px(const DoubledBox& b) { return 0.5 * std::max(b.xmax - b.xmin, b.ymax - b.ymin); }
+}  // namespace
+
 std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Components& components, const ImageF& img,
                                      std::span<const Corners> covered, const QuadFitOptions& fit,
                                      const EdgeRefineOptions& refine, const DarkOutlineOptions& opt,
@@ -23,6 +30,20 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
   s.joined.points.clear();
   s.joined.offsets.assign(1, 0);
   s.from_cluster.clear();
+  // Whether n groups whose box is `box` are joined: min_groups..max_groups of them, of tag size.
+  const auto joinable = [&](std::size_t n, const DoubledBox& box) {
+    const double size = longer_side_px(box);
+    return n >= static_cast<std::size_t>(opt.min_groups) && n <= static_cast<std::size_t>(opt.max_groups) &&
+           size >= opt.min_size_px && size <= opt.max_size_px;
+  };
+  const auto add_group = [&](std::uint32_t g) {
+    const auto pts = groups.group(g);
+    s.joined.points.insert(s.joined.points.end(), pts.begin(), pts.end());
+  };
+  const auto close_joined = [&](bool from_cluster) {
+    s.joined.offsets.push_back(static_cast<std::uint32_t>(s.joined.points.size()));
+    s.from_cluster.push_back(from_cluster);
+  };
   // The groups by_component[i..j) (one component's, too many or too far apart to join whole), each at
   // most max_size_px across, clustered by overlapping boxes; each cluster of min_groups..max_groups
   // groups whose box is of tag size joined.
@@ -30,7 +51,7 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
     s.cluster.clear();
     for (std::size_t k = i; k < j; ++k) {
       const DoubledBox b = bounding_box(groups.group(s.by_component[k].second));
-      if (0.5 * std::max(b.xmax - b.xmin, b.ymax - b.ymin) <= opt.max_size_px)
+      if (longer_side_px(b) <= opt.max_size_px)
         s.cluster.push_back({b, s.by_component[k].second, static_cast<std::uint32_t>(s.cluster.size())});
     }
     if (s.cluster.size() < 2) return;
@@ -52,21 +73,11 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
     std::sort(s.members.begin(), s.members.end());
     for (std::size_t a = 0, b = 0; a < s.members.size(); a = b) {
       DoubledBox box = s.cluster[s.members[a].second].box;
-      for (b = a + 1; b < s.members.size() && s.members[b].first == s.members[a].first; ++b) {
-        const DoubledBox& o = s.cluster[s.members[b].second].box;
-        box = {std::min(box.xmin, o.xmin), std::max(box.xmax, o.xmax), std::min(box.ymin, o.ymin),
-               std::max(box.ymax, o.ymax)};
-      }
-      const double size = 0.5 * std::max(box.xmax - box.xmin, box.ymax - box.ymin);
-      if (b - a < static_cast<std::size_t>(opt.min_groups) || b - a > static_cast<std::size_t>(opt.max_groups) ||
-          size < opt.min_size_px || size > opt.max_size_px)
-        continue;
-      for (std::size_t k = a; k < b; ++k) {
-        const auto g = groups.group(s.cluster[s.members[k].second].group);
-        s.joined.points.insert(s.joined.points.end(), g.begin(), g.end());
-      }
-      s.joined.offsets.push_back(static_cast<std::uint32_t>(s.joined.points.size()));
-      s.from_cluster.push_back(true);
+      for (b = a + 1; b < s.members.size() && s.members[b].first == s.members[a].first; ++b)
+        box = merged(box, s.cluster[s.members[b].second].box);
+      if (!joinable(b - a, box)) continue;
+      for (std::size_t k = a; k < b; ++k) add_group(s.cluster[s.members[k].second].group);
+      close_joined(true);
     }
   };
   // Joins the groups that share the component on one side of their first point (-1: the dark side,
@@ -81,25 +92,16 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
     std::sort(s.by_component.begin(), s.by_component.end());
     for (std::size_t i = 0, j = 0; i < s.by_component.size(); i = j) {
       DoubledBox box = bounding_box(groups.group(s.by_component[i].second));
-      for (j = i + 1; j < s.by_component.size() && s.by_component[j].first == s.by_component[i].first; ++j) {
-        const DoubledBox b = bounding_box(groups.group(s.by_component[j].second));
-        box = {std::min(box.xmin, b.xmin), std::max(box.xmax, b.xmax), std::min(box.ymin, b.ymin),
-               std::max(box.ymax, b.ymax)};
-      }
+      for (j = i + 1; j < s.by_component.size() && s.by_component[j].first == s.by_component[i].first; ++j)
+        box = merged(box, bounding_box(groups.group(s.by_component[j].second)));
       const std::size_t n = j - i;
-      const double size = 0.5 * std::max(box.xmax - box.xmin, box.ymax - box.ymin);
       if (s.by_component[i].first == kNoComponent) continue;
-      if (n < static_cast<std::size_t>(opt.min_groups) || n > static_cast<std::size_t>(opt.max_groups) ||
-          size < opt.min_size_px || size > opt.max_size_px) {
+      if (!joinable(n, box)) {
         if (opt.overlap_clusters && n >= static_cast<std::size_t>(opt.min_groups)) join_overlapping(i, j);
         continue;
       }
-      for (std::size_t k = i; k < j; ++k) {
-        const auto g = groups.group(s.by_component[k].second);
-        s.joined.points.insert(s.joined.points.end(), g.begin(), g.end());
-      }
-      s.joined.offsets.push_back(static_cast<std::uint32_t>(s.joined.points.size()));
-      s.from_cluster.push_back(false);
+      for (std::size_t k = i; k < j; ++k) add_group(s.by_component[k].second);
+      close_joined(false);
     }
   };
   join_by(-1);
