@@ -79,6 +79,16 @@ inline ThresholdQuadOptions default_profile_threshold_quads() {
   // sweeps: the same detections (21 of the 30 k distance rows, all at 40-60 m, have their corners from
   // another duplicate candidate).
   q.fit.outer.min_points_per_box_px = 4;
+  // Each side's ring pairs also read 1/16 of the quad's width further out, at most one side passing
+  // only so (session 36, on by default since session 37 with SoftDecodeOptions::min_opposite_ratio
+  // 0.8): a blurred 1-cell border with light payload cells behind it, whose threshold outline lies a
+  // pixel inside the square's edge on one side. Realistic seeds 1 / 2 (200 frames): 1100 -> 1102,
+  // 1048 -> 1051 tags, 20-24 px 172 -> 173, 177 -> 179, no wrong id, no false detection, the same
+  // time; linear-camera set 968 -> 968, sharpened 1100 -> 1100 (20-24 px 162 -> 161); ray-traced
+  // distance, angle and conditions sweeps every detection the same; corpus 16h5 false detections
+  // 295 -> 337 (of 1182 images; libapriltag d2 about 2700), 36h11 0.
+  q.fit.outer.ring_outward_slack = 1.0 / 16;
+  q.fit.outer.ring_slack_sides = 1;
   // Where the outermost outline gives no quad, the innermost outward outline (outer_outline.hpp; session
   // 20): a tag whose border ran through a broken white ring into a darker plate. Realistic seeds 1, 2,
   // 3 (200 frames each): 1014 -> 1015, 974 -> 980, 1065 -> 1066 tags (20-24 px: 159 -> 160, 160 -> 164,

@@ -65,10 +65,9 @@ struct OuterOutlineOptions {
   // Each pair read also this fraction of the quad's width further out, the larger step counting
   // (0: off), [0, 0.25]: the threshold's outline of a blurred 1-cell border with light payload cells
   // behind it can lie a pixel or two inside the square's edge, where the inner sample reads a light
-  // cell. Off in every profile (session 36, variant keys `ring_slack`, `ring_slack_sides`; realistic
-  // seeds 1 / 2, 200 frames, 1/16 on at most one side: 1100 -> 1102, 1048 -> 1051 tags, 20-24 px
-  // 172 -> 173, 177 -> 179, no wrong id, the same time; but on the corpus 16h5 false detections 295 ->
-  // 337 and 36h11 its first, a soft-decoded 13 x 28 px quad of a canyon photograph).
+  // cell. Off here; 1/16 on at most one side in the default profile since session 37
+  // (default_profile_threshold_quads, detector_options.hpp; variant keys `ring_slack`,
+  // `ring_slack_sides`).
   double ring_outward_slack = 0;
   int ring_slack_sides = 4;  // at most this many sides pass only through the slack, 0..4
   // threshold_quads.hpp's use: whether the refit also runs when quads are found at half resolution.

@@ -51,11 +51,11 @@ struct SoftDecodeOptions {
   // No soft decoding of a quad whose opposite sides differ more than this: the shorter of each pair
   // over the longer, the smaller of the two ratios (1 for any parallelogram; a tag seen from far
   // enough for its payload to be hard to read is imaged nearly affinely); 0 = off, [0, 1]. Variant
-  // key `soft_opp`. Off in every profile until a make bench has measured it (session 36: at 0.8
-  // realistic seeds 1 / 2 every tag the same, seed 2's one false detection gone; with the ring
-  // check's outward slack, OuterOutlineOptions, it removes the 36h11 corpus false detection the slack
-  // let through, a 0.72 quad soft decoded six bits off).
-  double min_opposite_ratio = 0;
+  // key `soft_opp`. 0.8 by default since session 37 (measured in session 36: realistic seeds 1 / 2,
+  // 200 frames, every tag the same and seed 2's one false detection gone; with the ring check's
+  // outward slack, OuterOutlineOptions, it removes the 36h11 corpus false detection the slack let
+  // through, a 0.72 quad soft decoded six bits off). The paper profile does not soft decode.
+  double min_opposite_ratio = 0.8;
 };
 
 // The smaller of a quad's two opposite-side ratios (shorter / longer; 0 for a degenerate side).

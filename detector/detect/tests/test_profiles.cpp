@@ -78,6 +78,9 @@ TEST(Profiles, PaperPresetIsThePapersComposition) {
   EXPECT_TRUE(DetectorOptions::thorough().linear_corners.enabled);
   EXPECT_TRUE(d.threshold_quads.noise_blur.enabled);  // a blur for sharpened or noisy photographs
   EXPECT_EQ(d.soft_decode.min_area_ratio, 0.4);        // and no soft decoding of slivers with it
+  EXPECT_EQ(d.soft_decode.min_opposite_ratio, 0.8);    // nor of quads no distant square gives
+  EXPECT_EQ(d.threshold_quads.fit.outer.ring_outward_slack, 1.0 / 16);  // a side a pixel inside the edge
+  EXPECT_EQ(d.threshold_quads.fit.outer.ring_slack_sides, 1);           // on at most one side
   EXPECT_EQ(d.input_gamma, 1.0);  // the image as it is unless told its encoding (a wrong gamma costs most)
   p.validate();
   d.validate();
