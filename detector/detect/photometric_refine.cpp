@@ -189,7 +189,8 @@ std::optional<Corners> refine_corners_photometric(const ImageF& img, const TagCe
     const float aw = static_cast<float>(G(2, 1) * yn + 1), a1 = static_cast<float>(G(0, 1) * yn + G(0, 2)),
                 a2 = static_cast<float>(G(1, 1) * yn + G(1, 2));
     const int* rx = r.x.data();
-    // Eigen's packets for the arithmetic (its sqrt vectorises; the library's, which may set errno, does not).
+    // Eigen's packets for the arithmetic (its sqrt vectorises under any flags; std::sqrt only because the
+    // library is built with -fno-math-errno, detector/CMakeLists.txt).
     using FMap = Eigen::Map<Eigen::ArrayXf>;
     FMap xn(r.xn.data(), m), w(r.w.data(), m), u1(r.u1.data(), m), u2(r.u2.data(), m), b1(r.b1.data(), m), b2(r.b2.data(), m);
     xn = (Eigen::Map<const Eigen::ArrayXi>(rx, m).cast<float>() - fcx) / fS;
