@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <stdexcept>
 
 namespace tagbench {
 namespace {
@@ -115,6 +116,84 @@ void gaussian_blur(const ImageF& img, double sigma, ImageF& tmp, ImageF& out) {
   const int r = gaussian_radius(sigma);
   filter_rows(img, k, -r, 1, img.width, tmp);
   filter_cols(tmp, k, -r, 1, img.height, out);
+}
+
+void gaussian_blur_blocks(const ImageF& img, double sigma, int block, std::span<const std::uint8_t> need, ImageF& tmp,
+                          ImageF& out) {
+  const int w = img.width, h = img.height;
+  const int bw = block >= 1 ? (w + block - 1) / block : 0, bh = block >= 1 ? (h + block - 1) / block : 0;
+  if (block < 1 || need.size() != static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh))
+    throw std::invalid_argument("gaussian_blur_blocks: block must be >= 1 and need hold one entry per block");
+  if (sigma <= 0.0 || img.empty()) {
+    out = img;
+    return;
+  }
+  const std::vector<float> k = gaussian_kernel(sigma);
+  const int r = gaussian_radius(sigma), taps = static_cast<int>(k.size());
+  reshape(tmp, w, h);
+  reshape(out, w, h);
+  // The horizontal pass is needed on the rows the vertical pass reads: r rows either way.
+  const int reach = (r + block - 1) / block;
+  std::vector<std::uint8_t> rows_need(need.size(), 0);
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx)
+      for (int j = std::max(0, by - reach); j <= std::min(bh - 1, by + reach); ++j)
+        if (need[static_cast<std::size_t>(j * bw + bx)]) {
+          rows_need[static_cast<std::size_t>(by * bw + bx)] = 1;
+          break;
+        }
+  // Calls f(x0, x1) for every run of wanted blocks on the block row of image row y (pixels [x0, x1)).
+  const auto runs = [&](std::span<const std::uint8_t> m, int y, auto&& f) {
+    const std::uint8_t* row = m.data() + static_cast<std::size_t>(y / block) * static_cast<std::size_t>(bw);
+    for (int bx = 0; bx < bw;) {
+      if (!row[bx]) {
+        ++bx;
+        continue;
+      }
+      int end = bx;
+      while (end < bw && row[end]) ++end;
+      f(bx * block, std::min(w, end * block));
+      bx = end;
+    }
+  };
+  // filter_rows' arithmetic (step 1, first -r): clamped sums outside [x_lo, x_hi), tap by tap inside.
+  const int x_lo = std::min(w, r), x_hi = std::max(x_lo, w - r);
+  for (int y = 0; y < h; ++y) {
+    const float* row = &img.data[img.index(0, y)];
+    float* dst = &tmp.data[tmp.index(0, y)];
+    runs(rows_need, y, [&](int x0, int x1) {
+      const int a = std::max(x0, x_lo), b = std::max(a, std::min(x1, x_hi));
+      const auto clamped = [&](int X0, int X1) {
+        for (int X = X0; X < X1; ++X) {
+          float s = 0.0f;
+          for (int t = 0; t < taps; ++t) s += k[t] * row[std::clamp(X - r + t, 0, w - 1)];
+          dst[X] = s;
+        }
+      };
+      clamped(x0, std::min(x1, a));
+      clamped(std::max(x0, b), x1);
+      if (a >= b) return;
+      std::fill(dst + a, dst + b, 0.0f);
+      for (int t = 0; t < taps; ++t) {
+        const float kt = k[t];
+        const float* p = row + (a + t - r);  // a >= x_lo = r: inside the row
+        float* d = dst + a;
+        for (int X = 0; X < b - a; ++X) d[X] += kt * p[X];
+      }
+    });
+  }
+  // filter_cols' arithmetic.
+  for (int Y = 0; Y < h; ++Y) {
+    float* dst = &out.data[out.index(0, Y)];
+    runs(need, Y, [&](int x0, int x1) {
+      std::fill(dst + x0, dst + x1, 0.0f);
+      for (int t = 0; t < taps; ++t) {
+        const float* src = &tmp.data[tmp.index(0, std::clamp(Y - r + t, 0, h - 1))];
+        const float kt = k[t];
+        for (int x = x0; x < x1; ++x) dst[x] += kt * src[x];
+      }
+    });
+  }
 }
 
 ImageF half_resolution(const ImageF& img) {

@@ -13,6 +13,8 @@
 // pixels 2X and 2X+1, whose centres are at 2X and 2X+1, so its centre sits at full-resolution
 // coordinate 2X + 0.5: x_full = full_from_half(x_half) = 2 x_half + 0.5 (same for y), and
 // lengths double. An odd last row or column is dropped (the output is floor(w/2) x floor(h/2)).
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include "detect/image.hpp"
@@ -50,5 +52,14 @@ ImageF blur_and_halve(const ImageF& img, double sigma);
 void gaussian_blur(const ImageF& img, double sigma, ImageF& tmp, ImageF& out);
 void half_resolution(const ImageF& img, ImageF& out);
 void blur_and_halve(const ImageF& img, double sigma, ImageF& tmp, ImageF& out);
+
+// gaussian_blur over part of the image only: the pixels of the blocks `need` marks (blocks of
+// block x block pixels, ceil(w / block) per row, ceil(h / block) rows, row-major; nonzero = wanted)
+// get gaussian_blur's values bit for bit (the same taps summed in the same order); the rest of
+// `out` is unspecified. For a caller that knows most of an image needs no blur (flat parts: see
+// line_segments.cpp). `out` is resized like gaussian_blur's; sigma <= 0 copies the image.
+// Throws std::invalid_argument when block < 1 or need has the wrong size.
+void gaussian_blur_blocks(const ImageF& img, double sigma, int block, std::span<const std::uint8_t> need, ImageF& tmp,
+                          ImageF& out);
 
 }  // namespace tagbench

@@ -38,7 +38,67 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
         "straight_check_px > 0");
   std::vector<Segment> out;
   if (img.width < 3 || img.height < 3) return out;
-  gaussian_blur(img, opt.sigma, s.tmp, s.blurred);
+  const float floor = static_cast<float>(opt.min_gradient / 255.0);
+  // Flat blocks (skip_flat_blocks). A gradient (2 x 2 mask on the blurred image, below) at grid
+  // point (x, y) mixes image pixels within r + 1 of it (r the blur's radius), and each of its two
+  // components is at most their grey range, so its magnitude at most sqrt 2 times that: a block
+  // whose neighbourhood's range is below floor / sqrt 2 (less 1e-5 for the float sums) has no pixel
+  // at the floor. Such blocks are not differentiated, nor blurred where no busy block needs them.
+  constexpr int kBlock = 16;
+  const int r = opt.sigma > 0 ? gaussian_radius(opt.sigma) : 0;
+  const int bw = (img.width + kBlock - 1) / kBlock, bh = (img.height + kBlock - 1) / kBlock;
+  const std::size_t nb = static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh);
+  s.busy.assign(nb, 1);
+  bool all_busy = true;
+  if (opt.skip_flat_blocks) {
+    // Each block row's range per column first (element-wise over rows: vectorised), then per block.
+    s.block_lo.resize(nb), s.block_hi.resize(nb);
+    s.column_lo.resize(static_cast<std::size_t>(img.width)), s.column_hi.resize(static_cast<std::size_t>(img.width));
+    float *clo = s.column_lo.data(), *chi = s.column_hi.data();
+    for (int by = 0; by < bh; ++by) {
+      const int y0 = by * kBlock, y1 = std::min(img.height, y0 + kBlock);
+      std::copy_n(img.data.data() + img.index(0, y0), img.width, clo);
+      std::copy_n(img.data.data() + img.index(0, y0), img.width, chi);
+      for (int y = y0 + 1; y < y1; ++y) {
+        const float* row = img.data.data() + img.index(0, y);
+        for (int x = 0; x < img.width; ++x) {
+          clo[x] = row[x] < clo[x] ? row[x] : clo[x];
+          chi[x] = row[x] > chi[x] ? row[x] : chi[x];
+        }
+      }
+      for (int bx = 0; bx < bw; ++bx) {
+        float l = clo[bx * kBlock], h = chi[bx * kBlock];
+        for (int x = bx * kBlock + 1; x < std::min(img.width, (bx + 1) * kBlock); ++x) l = std::min(l, clo[x]), h = std::max(h, chi[x]);
+        s.block_lo[static_cast<std::size_t>(by * bw + bx)] = l, s.block_hi[static_cast<std::size_t>(by * bw + bx)] = h;
+      }
+    }
+    const int reach = 1 + r / kBlock;  // blocks either way holding every pixel within r + 1
+    const float limit = floor / std::numbers::sqrt2_v<float> - 1e-5f;
+    for (int by = 0; by < bh; ++by)
+      for (int bx = 0; bx < bw; ++bx) {
+        float l = std::numeric_limits<float>::infinity(), h = -l;
+        for (int j = std::max(0, by - reach); j <= std::min(bh - 1, by + reach); ++j)
+          for (int i = std::max(0, bx - reach); i <= std::min(bw - 1, bx + reach); ++i) {
+            const std::size_t q = static_cast<std::size_t>(j * bw + i);
+            l = std::min(l, s.block_lo[q]), h = std::max(h, s.block_hi[q]);
+          }
+        const bool busy = !(h - l < limit);
+        s.busy[static_cast<std::size_t>(by * bw + bx)] = busy;
+        all_busy = all_busy && busy;
+      }
+  }
+  if (all_busy || opt.sigma <= 0) {
+    gaussian_blur(img, opt.sigma, s.tmp, s.blurred);
+  } else {
+    // A busy block's gradients read the pixels of the blocks right of and below it too.
+    s.need.assign(nb, 0);
+    for (int by = 0; by < bh; ++by)
+      for (int bx = 0; bx < bw; ++bx)
+        for (int j = std::max(0, by - 1); j <= by; ++j)
+          for (int i = std::max(0, bx - 1); i <= bx; ++i)
+            if (s.busy[static_cast<std::size_t>(j * bw + i)]) s.need[static_cast<std::size_t>(by * bw + bx)] = 1;
+    gaussian_blur_blocks(img, opt.sigma, kBlock, s.need, s.tmp, s.blurred);
+  }
   const ImageF& b = opt.sigma > 0 ? s.blurred : img;
   // Gradients at pixel corners: a (W - 1) x (H - 1) grid, entry (x, y) at image point (x + 0.5, y + 0.5),
   // stored with a rim: index (y + 1) * P + x + 1.
@@ -54,7 +114,6 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
   }
   s.mag.resize(N);
   s.candidates.clear();
-  const float floor = static_cast<float>(opt.min_gradient / 255.0);
   float max_mag = 0;
   for (int y = 0; y < H; ++y) {
     const float* r0 = b.data.data() + b.index(0, y);
@@ -65,23 +124,43 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
       return std::array<float, 2>{0.5f * (r0[x + 1] + r1[x + 1] - r0[x] - r1[x]),
                                   0.5f * (r1[x] + r1[x + 1] - r0[x] - r0[x + 1])};
     };
-    for (int x = 0; x < W; ++x) {  // no branch: vectorised
-      const auto [gx, gy] = gradient(x);
-      m_row[x] = std::sqrt(gx * gx + gy * gy);
-    }
-    // (A branch-free version of this loop, every direction computed and NaN below the floor, measured
-    // 1 ms a frame slower.)
-    for (int x = 0; x < W; ++x) {
-      const std::size_t i = row + static_cast<std::size_t>(x);
-      const float m = m_row[x];
-      if (m < floor) {
-        s.dir[i] = {kNaN, kNaN};
-        continue;
+    const auto differentiate = [&](int x0, int x1) {
+      for (int x = x0; x < x1; ++x) {  // no branch: vectorised
+        const auto [gx, gy] = gradient(x);
+        m_row[x] = std::sqrt(gx * gx + gy * gy);
       }
-      const auto [gx, gy] = gradient(x);
-      s.dir[i] = {gx / m, gy / m};
-      s.candidates.push_back(static_cast<std::uint32_t>(i));
-      max_mag = std::max(max_mag, m);
+      // (A branch-free version of this loop, every direction computed and NaN below the floor,
+      // measured 1 ms a frame slower.)
+      for (int x = x0; x < x1; ++x) {
+        const std::size_t i = row + static_cast<std::size_t>(x);
+        const float m = m_row[x];
+        if (m < floor) {
+          s.dir[i] = {kNaN, kNaN};
+          continue;
+        }
+        const auto [gx, gy] = gradient(x);
+        s.dir[i] = {gx / m, gy / m};
+        s.candidates.push_back(static_cast<std::uint32_t>(i));
+        max_mag = std::max(max_mag, m);
+      }
+    };
+    if (all_busy) {
+      differentiate(0, W);
+      continue;
+    }
+    const std::uint8_t* busy = s.busy.data() + static_cast<std::size_t>(y / kBlock) * static_cast<std::size_t>(bw);
+    for (int bx = 0; bx * kBlock < W;) {
+      int end = bx + 1;
+      while (end * kBlock < W && busy[end] == busy[bx]) ++end;
+      const int x0 = bx * kBlock, x1 = std::min(W, end * kBlock);
+      if (busy[bx]) {
+        differentiate(x0, x1);
+      } else {
+        std::fill(m_row + x0, m_row + x1, 0.0f);
+        std::fill(s.dir.begin() + static_cast<std::ptrdiff_t>(row) + x0, s.dir.begin() + static_cast<std::ptrdiff_t>(row) + x1,
+                  LineSegmentScratch::Direction{kNaN, kNaN});
+      }
+      bx = end;
     }
   }
   const double tau = opt.angle_tolerance_deg * std::numbers::pi / 180;

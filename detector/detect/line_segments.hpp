@@ -47,6 +47,11 @@ struct LineSegmentOptions {
   int straight_sides = 0;  // 0..2
   double straight_check_px = 3;  // > 0
   bool straight_seeds_only = false;
+  // Speed, exact: blocks of the image too flat for any gradient to reach min_gradient (the grey
+  // range round them under min_gradient / sqrt 2, with room for rounding) are neither blurred nor
+  // differentiated; their pixels take no part, as they would not anyway. The segments are the same
+  // bit for bit either way (tests/test_line_segments.cpp); false computes every pixel.
+  bool skip_flat_blocks = true;
 };
 
 // Buffers kept from one image to the next (storage only grows).
@@ -68,6 +73,9 @@ struct LineSegmentScratch {
     float ux, uy;       // its direction (dir[i] is NaN while it is in the region)
   };
   std::vector<RegionPixel> region;
+  std::vector<float> block_lo, block_hi;     // each block's grey range (skip_flat_blocks) ...
+  std::vector<float> column_lo, column_hi;   // ... and a block row's, column by column
+  std::vector<std::uint8_t> busy, need;      // blocks differentiated; blocks blurred
 };
 
 // Throws std::invalid_argument when min_gradient <= 0, angle_tolerance_deg is not in (0, 90],

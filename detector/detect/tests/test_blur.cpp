@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numeric>
 #include <random>
+#include <stdexcept>
+#include <vector>
 
 #include "detect/blur.hpp"
 
@@ -154,6 +156,42 @@ TEST(Blur, BlurAndHalveEqualsBlurThenHalve) {
     }
     EXPECT_EQ(blur_and_halve(img, 0.0).data, half_resolution(img).data);
   }
+}
+
+// The blur restricted to marked blocks gives gaussian_blur's values bit for bit on their pixels,
+// borders, blocks cut by the image's edge and kernels wider than a block included.
+TEST(Blur, BlocksGiveGaussianBlurBitForBitWhereMarked) {
+  for (auto [w, h] : {std::pair{37, 29}, std::pair{64, 48}, std::pair{5, 70}}) {
+    const ImageF img = random_image(w, h, static_cast<unsigned>(w + h));
+    for (int block : {1, 4, 16}) {
+      const int bw = (w + block - 1) / block, bh = (h + block - 1) / block;
+      std::vector<std::uint8_t> need(static_cast<std::size_t>(bw * bh));
+      std::mt19937 rng(static_cast<unsigned>(block));
+      for (auto& n : need) n = rng() % 3 == 0;
+      need.back() = 1;
+      for (double sigma : {0.75, 2.0, 6.0}) {
+        const ImageF ref = gaussian_blur(img, sigma);
+        ImageF tmp, out(3, 3, 0.25f);  // a reused buffer of another size
+        gaussian_blur_blocks(img, sigma, block, need, tmp, out);
+        ASSERT_EQ(out.width, w);
+        ASSERT_EQ(out.height, h);
+        int compared = 0;
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x)
+            if (need[static_cast<std::size_t>(y / block * bw + x / block)]) {
+              ASSERT_EQ(out.at(x, y), ref.at(x, y)) << w << "x" << h << " block " << block << " sigma " << sigma;
+              ++compared;
+            }
+        EXPECT_GT(compared, 0);
+      }
+    }
+  }
+  ImageF tmp, out;
+  const ImageF img = random_image(10, 10, 3);
+  EXPECT_THROW(gaussian_blur_blocks(img, 1.0, 0, {}, tmp, out), std::invalid_argument);
+  EXPECT_THROW(gaussian_blur_blocks(img, 1.0, 4, std::vector<std::uint8_t>(8, 1), tmp, out), std::invalid_argument);
+  gaussian_blur_blocks(img, 0.0, 4, std::vector<std::uint8_t>(9, 0), tmp, out);
+  EXPECT_EQ(out.data, img.data);
 }
 
 }  // namespace test_blur
