@@ -76,6 +76,7 @@ struct LineSegmentScratch {
   std::vector<float> block_lo, block_hi;     // each block's grey range (skip_flat_blocks) ...
   std::vector<float> column_lo, column_hi;   // ... and a block row's, column by column
   std::vector<std::uint8_t> busy, need;      // blocks differentiated; blocks blurred
+  std::vector<Direction> flat_row;           // a row of NaN directions, copied into flat blocks
 };
 
 // Throws std::invalid_argument when min_gradient <= 0, angle_tolerance_deg is not in (0, 90],

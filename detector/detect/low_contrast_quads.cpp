@@ -18,9 +18,14 @@ void faint_regions(const ThresholdScratch& windows, int w, int h, int t, float l
   // the threshold stage's run-based components label them.
   s.tiles.width = tw, s.tiles.height = th;
   s.tiles.data.resize(nt);
+  // Through local pointers and branch-free: a byte store may alias the vectors' own pointers, which
+  // the compiler would otherwise reload every tile.
+  const float *tmax = windows.tile_max.data(), *tmin = windows.tile_min.data();
+  std::uint8_t* tiles = s.tiles.data.data();
+  static_assert(kTernaryLight == kTernaryUnknown + 128);
   for (std::size_t k = 0; k < nt; ++k) {
-    const float d = windows.tile_max[k] - windows.tile_min[k];
-    s.tiles.data[k] = ((d >= low) & (d < high)) ? kTernaryLight : kTernaryUnknown;
+    const float d = tmax[k] - tmin[k];
+    tiles[k] = static_cast<std::uint8_t>(kTernaryUnknown + (((d >= low) & (d < high)) << 7));
   }
   connected_components(s.tiles, s.tile_scratch, s.tile_components, false);
   // Each region's box over its runs. A component's id is its first run (the smallest index: the
