@@ -114,7 +114,25 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
   }
   s.mag.resize(N);
   s.candidates.clear();
-  if (!all_busy) s.flat_row.assign(static_cast<std::size_t>(W), LineSegmentScratch::Direction{kNaN, kNaN});
+  if (!all_busy) {
+    s.flat_row.assign(static_cast<std::size_t>(W), LineSegmentScratch::Direction{kNaN, kNaN});
+    // Each block's part: 1 busy (differentiated); 2 flat but within reach of a busy block, set to NaN
+    // (region growing steps a pixel from a region's pixels, the straight check straight_check_px; as
+    // a busy block's neighbours are busy too, this ring is a margin, not needed); 0 flat and out of
+    // every reach: never read, so left as it is (its directions and magnitudes are whatever a
+    // previous image left there). Most of a flat image's dir is then not written at all.
+    const int ring = std::max(1, static_cast<int>(std::ceil((opt.straight_sides > 0 ? opt.straight_check_px + 1 : 1) / kBlock)));
+    s.part.assign(nb, 0);
+    for (int by = 0; by < bh; ++by)
+      for (int bx = 0; bx < bw; ++bx) {
+        if (!s.busy[static_cast<std::size_t>(by * bw + bx)]) continue;
+        for (int j = std::max(0, by - ring); j <= std::min(bh - 1, by + ring); ++j)
+          for (int i = std::max(0, bx - ring); i <= std::min(bw - 1, bx + ring); ++i) {
+            std::uint8_t& q = s.part[static_cast<std::size_t>(j * bw + i)];
+            q = std::max<std::uint8_t>(q, s.busy[static_cast<std::size_t>(j * bw + i)] ? 1 : 2);
+          }
+      }
+  }
   float max_mag = 0;
   for (int y = 0; y < H; ++y) {
     const float* r0 = b.data.data() + b.index(0, y);
@@ -149,18 +167,15 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
       differentiate(0, W);
       continue;
     }
-    const std::uint8_t* busy = s.busy.data() + static_cast<std::size_t>(y / kBlock) * static_cast<std::size_t>(bw);
+    const std::uint8_t* part = s.part.data() + static_cast<std::size_t>(y / kBlock) * static_cast<std::size_t>(bw);
     for (int bx = 0; bx * kBlock < W;) {
       int end = bx + 1;
-      while (end * kBlock < W && busy[end] == busy[bx]) ++end;
+      while (end * kBlock < W && part[end] == part[bx]) ++end;
       const int x0 = bx * kBlock, x1 = std::min(W, end * kBlock);
-      if (busy[bx]) {
+      if (part[bx] == 1)
         differentiate(x0, x1);
-      } else {
-        std::fill(m_row + x0, m_row + x1, 0.0f);
-        // Copied from a row of NaN pairs: a block copy, where a fill of pairs is a loop of 8-byte stores.
+      else if (part[bx] == 2)  // a block copy from a row of NaN pairs (a fill of pairs is 8-byte stores)
         std::copy_n(s.flat_row.begin(), x1 - x0, s.dir.begin() + static_cast<std::ptrdiff_t>(row) + x0);
-      }
       bx = end;
     }
   }

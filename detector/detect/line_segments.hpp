@@ -59,6 +59,7 @@ struct LineSegmentScratch {
   ImageF blurred, tmp;
   // The gradient grid with a one-entry rim on every side, so that a pixel's 8 neighbours are always
   // there to read: unit gradient per pixel corner, NaN where the pixel takes no part or is used.
+  // With skip_flat_blocks, flat blocks out of every busy block's reach are not written (never read).
   struct Direction {
     float ux, uy;
   };
@@ -75,7 +76,7 @@ struct LineSegmentScratch {
   std::vector<RegionPixel> region;
   std::vector<float> block_lo, block_hi;     // each block's grey range (skip_flat_blocks) ...
   std::vector<float> column_lo, column_hi;   // ... and a block row's, column by column
-  std::vector<std::uint8_t> busy, need;      // blocks differentiated; blocks blurred
+  std::vector<std::uint8_t> busy, need, part;  // blocks differentiated; blurred; what each gets
   std::vector<Direction> flat_row;           // a row of NaN directions, copied into flat blocks
 };
 
