@@ -8,6 +8,7 @@
 // centres at integer coordinates (OpenCV's convention).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <span>
 #include <utility>
@@ -52,6 +53,34 @@ inline Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::V
 // Whether p lies inside the convex quad q (either winding); a point on a side counts as inside. False
 // when a NaN is involved and when all four corners lie on one line (no inside to speak of).
 bool inside_quad(const Corners& q, const Eigen::Vector2d& p);
+
+// inside_quad for many points of one quad along rows (a pixel scan): the sides' vectors once per
+// quad and each side's row term once per row, the same doubles in the same operations, so the same
+// answers bit for bit (tests/test_homography.cpp). row(y) first, then contains(x) for points (x, y).
+class QuadRowTest {
+ public:
+  explicit QuadRowTest(const Corners& q) : q_(q) {
+    for (std::size_t i = 0; i < 4; ++i) e_[i] = q[(i + 1) % 4] - q[i];
+  }
+  void row(double y) {
+    for (std::size_t i = 0; i < 4; ++i) a_[i] = e_[i].x() * (y - q_[i].y());
+  }
+  bool contains(double x) const {
+    int pos = 0, on = 0;
+    for (std::size_t i = 0; i < 4; ++i) {
+      const double z = a_[i] - e_[i].y() * (x - q_[i].x());
+      if (std::isnan(z)) return false;
+      pos += z >= 0 ? 1 : 0;
+      on += z == 0 ? 1 : 0;
+    }
+    return (pos == 4 || pos == 0) && on < 4;
+  }
+
+ private:
+  Corners q_;
+  std::array<Eigen::Vector2d, 4> e_;
+  std::array<double, 4> a_{};
+};
 
 // A quad's corners re-ordered so that its corner `rotation` (0..3) comes first: the printed order
 // TL, TR, BR, BL of a code read through the quad in that rotation (decode_quads.hpp).

@@ -66,9 +66,12 @@ std::vector<Quad> second_look_quads(const ImageF& img, std::span<const Quad> qua
       for (int x = x0; x <= x1; ++x) roi.at(x - x0, y - y0) = img.at(x, y);
     // Otsu over the pixels inside the quad: the ink and its ring or card, less of the ground around.
     inside.clear();
-    for (int y = y0; y <= y1; ++y)
+    QuadRowTest in(c);  // inside_quad, bit for bit, with the sides' terms kept per quad and per row
+    for (int y = y0; y <= y1; ++y) {
+      in.row(y);
       for (int x = x0; x <= x1; ++x)
-        if (!opt.inside_only || inside_quad(c, Eigen::Vector2d(x, y))) inside.push_back(img.at(x, y));
+        if (!opt.inside_only || in.contains(x)) inside.push_back(img.at(x, y));
+    }
     if (inside.size() < 16) continue;
     const OtsuSplit split = otsu_split(inside);
     if (!(split.light_mean - split.dark_mean >= opt.min_class_gap)) continue;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -74,6 +75,39 @@ TEST(Homography, InsideQuad) {
   const Corners line{Eigen::Vector2d(-5, 0), Eigen::Vector2d(0, 0), Eigen::Vector2d(5, 0), Eigen::Vector2d(0, 0)};
   EXPECT_FALSE(inside_quad(line, Eigen::Vector2d(0, 0)));
   EXPECT_FALSE(inside_quad(line, Eigen::Vector2d(2, 0)));
+}
+
+// The row-wise test answers as inside_quad for every pixel of a scan, on random quads (convex,
+// concave, either winding, corners on the pixel grid so that pixels fall exactly on sides), the
+// degenerate line and a quad with a NaN corner.
+TEST(Homography, QuadRowTestAnswersAsInsideQuad) {
+  std::mt19937 rng(38);
+  std::uniform_real_distribution<double> u(-3, 23);
+  std::uniform_int_distribution<int> k(-3, 23);
+  std::vector<Corners> quads;
+  for (int i = 0; i < 200; ++i) {
+    Corners q;
+    for (auto& p : q) p = i % 2 ? Eigen::Vector2d(u(rng), u(rng)) : Eigen::Vector2d(k(rng), k(rng));
+    quads.push_back(q);
+  }
+  quads.push_back({Eigen::Vector2d(-5, 0), Eigen::Vector2d(0, 0), Eigen::Vector2d(5, 0), Eigen::Vector2d(0, 0)});
+  Corners with_nan = quads.front();
+  with_nan[1].y() = std::nan("");
+  quads.push_back(with_nan);
+  int inside = 0, outside = 0;
+  for (const Corners& q : quads) {
+    QuadRowTest t(q);
+    for (int y = -4; y <= 24; ++y) {
+      t.row(y);
+      for (int x = -4; x <= 24; ++x) {
+        const bool want = inside_quad(q, Eigen::Vector2d(x, y));
+        ASSERT_EQ(t.contains(x), want) << x << "," << y;
+        (want ? inside : outside)++;
+      }
+    }
+  }
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 1000);
 }
 
 }  // namespace test_homography
