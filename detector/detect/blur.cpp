@@ -16,64 +16,79 @@ void reshape(ImageF& img, int w, int h) {
   img.data.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
 }
 
+// The output columns X of filter_rows whose taps all fall inside the row (no clamping): [lo, hi).
+struct Interior {
+  int lo, hi;
+};
+Interior unclamped_columns(int w, int taps, int first, int step, int out_w) {
+  const int lo = std::min(out_w, std::max(0, (-first + step - 1) / step));
+  return {lo, std::max(lo, std::min(out_w, (w - (first + taps - 1) + step - 1) / step))};
+}
+
+// Output columns [X0, X1) of one row of filter_rows (`in`: its unclamped columns): src's row `row`
+// of width w correlated with kernel k (taps for offsets first..first+k.size()-1), sampled at
+// x = step * X + first, clamped at the borders.
+void filter_row_span(const float* row, int w, const std::vector<float>& k, int first, int step, Interior in, int X0,
+                     int X1, float* dst) {
+  const int taps = static_cast<int>(k.size());
+  const int a = std::clamp(in.lo, X0, X1), b = std::clamp(in.hi, a, X1);  // [a, b): no clamping
+  const auto clamped = [&](int X) {
+    float s = 0.0f;
+    for (int t = 0; t < taps; ++t) s += k[t] * row[std::clamp(step * X + first + t, 0, w - 1)];
+    return s;
+  };
+  for (int X = X0; X < a; ++X) dst[X] = clamped(X);
+  if (a >= b) {
+    // no unclamped column in the span
+  } else if (step == 1) {
+    // Tap by tap over the whole run, which vectorises: each output still sums its taps in the
+    // order 0, 1, ... in float, so the values are those of the loop below, bit for bit.
+    std::fill(dst + a, dst + b, 0.0f);
+    for (int t = 0; t < taps; ++t) {
+      const float kt = k[t];
+      const float* p = row + (a + first + t);  // a >= in.lo >= -first: inside the row
+      float* d = dst + a;
+      for (int X = 0; X < b - a; ++X) d[X] += kt * p[X];
+    }
+  } else {
+    for (int X = a; X < b; ++X) {
+      const float* p = row + step * X + first;
+      float s = 0.0f;
+      for (int t = 0; t < taps; ++t) s += k[t] * p[t];
+      dst[X] = s;
+    }
+  }
+  for (int X = b; X < X1; ++X) dst[X] = clamped(X);
+}
+
 // Correlates every row of src with kernel k (taps for offsets first..first+k.size()-1), sampling
 // src at x = step * X + offset for output X in [0, out_w), with clamped borders. step = 1 is a plain
 // horizontal blur, step = 2 the decimating pass of blur_and_halve. Every output value is written,
 // so `out` is only resized (its storage is reused when big enough).
 void filter_rows(const ImageF& src, const std::vector<float>& k, int first, int step, int out_w, ImageF& out) {
   reshape(out, out_w, src.height);
-  const int taps = static_cast<int>(k.size());
-  const int w = src.width;
-  // Output columns whose taps all fall inside the row need no clamping: X in [x_lo, x_hi).
-  const int x_lo = std::min(out_w, std::max(0, (-first + step - 1) / step));
-  const int x_hi = std::max(x_lo, std::min(out_w, (w - (first + taps - 1) + step - 1) / step));
-  for (int y = 0; y < src.height; ++y) {
-    const float* row = &src.data[src.index(0, y)];
-    float* dst = &out.data[out.index(0, y)];
-    auto clamped = [&](int X) {
-      float s = 0.0f;
-      for (int t = 0; t < taps; ++t) s += k[t] * row[std::clamp(step * X + first + t, 0, w - 1)];
-      return s;
-    };
-    for (int X = 0; X < x_lo; ++X) dst[X] = clamped(X);
-    if (step == 1) {
-      // Tap by tap over the whole run, which vectorises: each output still sums its taps in the
-      // order 0, 1, ... in float, so the values are those of the loop below, bit for bit.
-      const float* p = row + first;
-      std::fill(dst + x_lo, dst + x_hi, 0.0f);
-      for (int t = 0; t < taps; ++t) {
-        const float kt = k[t];
-        for (int X = x_lo; X < x_hi; ++X) dst[X] += kt * p[X + t];
-      }
-    } else {
-      for (int X = x_lo; X < x_hi; ++X) {
-        const float* p = row + step * X + first;
-        float s = 0.0f;
-        for (int t = 0; t < taps; ++t) s += k[t] * p[t];
-        dst[X] = s;
-      }
-    }
-    for (int X = x_hi; X < out_w; ++X) dst[X] = clamped(X);
+  const Interior in = unclamped_columns(src.width, static_cast<int>(k.size()), first, step, out_w);
+  for (int y = 0; y < src.height; ++y)
+    filter_row_span(&src.data[src.index(0, y)], src.width, k, first, step, in, 0, out_w, &out.data[out.index(0, y)]);
+}
+
+// Output columns [X0, X1) of output row Y of filter_cols: source rows step * Y + first + t (clamped),
+// whole rows at a time so the inner loop runs along contiguous memory, accumulated from zero.
+void filter_col_span(const ImageF& src, const std::vector<float>& k, int first, int step, int Y, int X0, int X1,
+                     float* dst) {
+  std::fill(dst + X0, dst + X1, 0.0f);
+  for (std::size_t t = 0; t < k.size(); ++t) {
+    const int sy = std::clamp(step * Y + first + static_cast<int>(t), 0, src.height - 1);
+    const float* row = &src.data[src.index(0, sy)];
+    const float kt = k[t];
+    for (int x = X0; x < X1; ++x) dst[x] += kt * row[x];
   }
 }
 
-// The vertical counterpart: output row Y combines source rows step * Y + first + t (clamped).
-// Works on whole rows at a time so the inner loop runs along contiguous memory; it accumulates, so
-// `out` is zeroed first (a reused buffer holds the previous frame).
+// The vertical counterpart of filter_rows: output row Y combines source rows step * Y + first + t.
 void filter_cols(const ImageF& src, const std::vector<float>& k, int first, int step, int out_h, ImageF& out) {
   reshape(out, src.width, out_h);
-  std::fill(out.data.begin(), out.data.end(), 0.0f);
-  const int taps = static_cast<int>(k.size());
-  const std::size_t w = static_cast<std::size_t>(src.width);
-  for (int Y = 0; Y < out_h; ++Y) {
-    float* dst = &out.data[out.index(0, Y)];
-    for (int t = 0; t < taps; ++t) {
-      const int sy = std::clamp(step * Y + first + t, 0, src.height - 1);
-      const float* row = &src.data[src.index(0, sy)];
-      const float kt = k[t];
-      for (std::size_t x = 0; x < w; ++x) dst[x] += kt * row[x];
-    }
-  }
+  for (int Y = 0; Y < out_h; ++Y) filter_col_span(src, k, first, step, Y, 0, src.width, &out.data[out.index(0, Y)]);
 }
 
 // The Gaussian convolved with the 2-tap box [1/2, 1/2]: offsets -r..r+1 relative to 2X.
@@ -129,7 +144,7 @@ void gaussian_blur_blocks(const ImageF& img, double sigma, int block, std::span<
     return;
   }
   const std::vector<float> k = gaussian_kernel(sigma);
-  const int r = gaussian_radius(sigma), taps = static_cast<int>(k.size());
+  const int r = gaussian_radius(sigma);
   reshape(tmp, w, h);
   reshape(out, w, h);
   // The horizontal pass is needed on the rows the vertical pass reads: r rows either way.
@@ -156,43 +171,16 @@ void gaussian_blur_blocks(const ImageF& img, double sigma, int block, std::span<
       bx = end;
     }
   };
-  // filter_rows' arithmetic (step 1, first -r): clamped sums outside [x_lo, x_hi), tap by tap inside.
-  const int x_lo = std::min(w, r), x_hi = std::max(x_lo, w - r);
+  // filter_rows' and filter_cols' own spans, on the runs of blocks wanted.
+  const Interior in = unclamped_columns(w, static_cast<int>(k.size()), -r, 1, w);
   for (int y = 0; y < h; ++y) {
     const float* row = &img.data[img.index(0, y)];
     float* dst = &tmp.data[tmp.index(0, y)];
-    runs(rows_need, y, [&](int x0, int x1) {
-      const int a = std::max(x0, x_lo), b = std::max(a, std::min(x1, x_hi));
-      const auto clamped = [&](int X0, int X1) {
-        for (int X = X0; X < X1; ++X) {
-          float s = 0.0f;
-          for (int t = 0; t < taps; ++t) s += k[t] * row[std::clamp(X - r + t, 0, w - 1)];
-          dst[X] = s;
-        }
-      };
-      clamped(x0, std::min(x1, a));
-      clamped(std::max(x0, b), x1);
-      if (a >= b) return;
-      std::fill(dst + a, dst + b, 0.0f);
-      for (int t = 0; t < taps; ++t) {
-        const float kt = k[t];
-        const float* p = row + (a + t - r);  // a >= x_lo = r: inside the row
-        float* d = dst + a;
-        for (int X = 0; X < b - a; ++X) d[X] += kt * p[X];
-      }
-    });
+    runs(rows_need, y, [&](int x0, int x1) { filter_row_span(row, w, k, -r, 1, in, x0, x1, dst); });
   }
-  // filter_cols' arithmetic.
   for (int Y = 0; Y < h; ++Y) {
     float* dst = &out.data[out.index(0, Y)];
-    runs(need, Y, [&](int x0, int x1) {
-      std::fill(dst + x0, dst + x1, 0.0f);
-      for (int t = 0; t < taps; ++t) {
-        const float* src = &tmp.data[tmp.index(0, std::clamp(Y - r + t, 0, h - 1))];
-        const float kt = k[t];
-        for (int x = x0; x < x1; ++x) dst[x] += kt * src[x];
-      }
-    });
+    runs(need, Y, [&](int x0, int x1) { filter_col_span(tmp, k, -r, 1, Y, x0, x1, dst); });
   }
 }
 

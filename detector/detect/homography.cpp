@@ -110,15 +110,9 @@ std::pair<double, double> side_length_range(const Corners& quad) {
 }
 
 bool inside_quad(const Corners& q, const Eigen::Vector2d& p) {
-  int pos = 0, on = 0;  // sides with p on their left (or on them); sides whose line p lies on
-  for (std::size_t i = 0; i < 4; ++i) {
-    const Eigen::Vector2d e = q[(i + 1) % 4] - q[i], r = p - q[i];
-    const double z = e.x() * r.y() - e.y() * r.x();
-    if (std::isnan(z)) return false;  // a NaN compares false, which would read as "right of every side"
-    pos += z >= 0 ? 1 : 0;
-    on += z == 0 ? 1 : 0;
-  }
-  return (pos == 4 || pos == 0) && on < 4;  // on all four lines: the corners lie on one line
+  QuadRowTest t(q);
+  t.row(p.y());
+  return t.contains(p.x());
 }
 
 }  // namespace tagbench

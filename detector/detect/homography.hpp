@@ -55,8 +55,8 @@ inline Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::V
 bool inside_quad(const Corners& q, const Eigen::Vector2d& p);
 
 // inside_quad for many points of one quad along rows (a pixel scan): the sides' vectors once per
-// quad and each side's row term once per row, the same doubles in the same operations, so the same
-// answers bit for bit (tests/test_homography.cpp). row(y) first, then contains(x) for points (x, y).
+// quad and each side's row term once per row (inside_quad is this for one point). row(y) first, then
+// contains(x) for points (x, y).
 class QuadRowTest {
  public:
   explicit QuadRowTest(const Corners& q) : q_(q) {
@@ -66,14 +66,14 @@ class QuadRowTest {
     for (std::size_t i = 0; i < 4; ++i) a_[i] = e_[i].x() * (y - q_[i].y());
   }
   bool contains(double x) const {
-    int pos = 0, on = 0;
+    int pos = 0, on = 0;  // sides with the point on their left (or on them); sides whose line it lies on
     for (std::size_t i = 0; i < 4; ++i) {
       const double z = a_[i] - e_[i].y() * (x - q_[i].x());
-      if (std::isnan(z)) return false;
+      if (std::isnan(z)) return false;  // a NaN compares false, which would read as "right of every side"
       pos += z >= 0 ? 1 : 0;
       on += z == 0 ? 1 : 0;
     }
-    return (pos == 4 || pos == 0) && on < 4;
+    return (pos == 4 || pos == 0) && on < 4;  // on all four lines: the corners lie on one line
   }
 
  private:

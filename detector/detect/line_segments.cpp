@@ -87,7 +87,9 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
         all_busy = all_busy && busy;
       }
   }
-  if (all_busy || opt.sigma <= 0) {
+  if (opt.sigma <= 0) {
+    // no blur: the gradients are taken on img itself
+  } else if (all_busy) {
     gaussian_blur(img, opt.sigma, s.tmp, s.blurred);
   } else {
     // A busy block's gradients read the pixels of the blocks right of and below it too.
@@ -117,8 +119,8 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
   if (!all_busy) {
     s.flat_row.assign(static_cast<std::size_t>(W), LineSegmentScratch::Direction{kNaN, kNaN});
     // Each block's part: 1 busy (differentiated); 2 flat but within reach of a busy block, set to NaN
-    // (region growing steps a pixel from a region's pixels, the straight check straight_check_px; as
-    // a busy block's neighbours are busy too, this ring is a margin, not needed); 0 flat and out of
+    // (region growing steps a pixel from a region's pixels, the straight check straight_check_px; a
+    // block next to a candidate is mostly busy itself, this makes it so for any reach); 0 flat and out of
     // every reach: never read, so left as it is (its directions and magnitudes are whatever a
     // previous image left there). Most of a flat image's dir is then not written at all.
     const int ring = std::max(1, static_cast<int>(std::ceil((opt.straight_sides > 0 ? opt.straight_check_px + 1 : 1) / kBlock)));
