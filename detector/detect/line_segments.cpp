@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -136,7 +137,9 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
       }
   }
   float max_mag = 0;
+  s.row_first.resize(static_cast<std::size_t>(H) + 1);
   for (int y = 0; y < H; ++y) {
+    s.row_first[static_cast<std::size_t>(y)] = static_cast<std::uint32_t>(s.candidates.size());
     const float* r0 = b.data.data() + b.index(0, y);
     const float* r1 = r0 + b.width;
     const std::size_t row = static_cast<std::size_t>(y + 1) * static_cast<std::size_t>(P) + 1;
@@ -150,20 +153,30 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
         const auto [gx, gy] = gradient(x);
         m_row[x] = std::sqrt(gx * gx + gy * gy);
       }
-      // (A branch-free version of this loop, every direction computed and NaN below the floor,
-      // measured 1 ms a frame slower.)
+      // Directions and the candidate list without a branch per pixel (the floor test is as unpredictable
+      // as the texture): every pixel's index is written and the count advanced only for a candidate.
+      const std::size_t first = s.candidates.size();
+      s.candidates.resize(first + static_cast<std::size_t>(x1 - x0));
+      std::uint32_t* cand = s.candidates.data() + first;
+      std::size_t count = 0;
+      LineSegmentScratch::Direction* d = s.dir.data() + row;
+      float top = max_mag;
       for (int x = x0; x < x1; ++x) {
-        const std::size_t i = row + static_cast<std::size_t>(x);
         const float m = m_row[x];
-        if (m < floor) {
-          s.dir[i] = {kNaN, kNaN};
-          continue;
-        }
+        const bool keep = !(m < floor);
+        // Selections by bit masks (a float select compiles to a branch): a dropped pixel's direction
+        // gets a quiet NaN's bits ORed in, its magnitude is masked to 0 for the maximum (which is >= 0).
+        const std::uint32_t drop = 0u - static_cast<std::uint32_t>(!keep);
         const auto [gx, gy] = gradient(x);
-        s.dir[i] = {gx / m, gy / m};
-        s.candidates.push_back(static_cast<std::uint32_t>(i));
-        max_mag = std::max(max_mag, m);
+        const float div = std::max(m, 1e-30f);  // a kept m (>= floor > 1e-30, or NaN) unchanged
+        d[x] = {std::bit_cast<float>(std::bit_cast<std::uint32_t>(gx / div) | (drop & 0x7fc00000u)),
+                std::bit_cast<float>(std::bit_cast<std::uint32_t>(gy / div) | (drop & 0x7fc00000u))};
+        cand[count] = static_cast<std::uint32_t>(row + static_cast<std::size_t>(x));
+        count += keep;
+        top = std::max(top, std::bit_cast<float>(std::bit_cast<std::uint32_t>(m) & ~drop));
       }
+      max_mag = top;
+      s.candidates.resize(first + count);
     };
     if (all_busy) {
       differentiate(0, W);
@@ -181,6 +194,7 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
       bx = end;
     }
   }
+  s.row_first[static_cast<std::size_t>(H)] = static_cast<std::uint32_t>(s.candidates.size());
   const double tau = opt.angle_tolerance_deg * std::numbers::pi / 180;
   const float cos_tau = static_cast<float>(std::cos(tau));
   const std::array<std::int64_t, 8> step{-P - 1, -P, -P + 1, -1, 1, P - 1, P, P + 1};
@@ -190,22 +204,27 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
     // Decided for every pixel on the same grid, then applied.
     const float reach = static_cast<float>(opt.straight_check_px);
     s.aligned.resize(s.candidates.size());
-    int y = 0;  // of the padded grid
-    for (std::size_t k = 0; k < s.candidates.size(); ++k) {
-      const std::uint32_t i = s.candidates[k];
-      const LineSegmentScratch::Direction d = s.dir[i];
-      while (i >= static_cast<std::uint32_t>((y + 1) * P)) ++y;  // candidates are in raster order
-      const int x = static_cast<int>(i) - y * P;
-      const auto nearest = [](float v) { return static_cast<int>(v + (v >= 0 ? 0.5f : -0.5f)); };
-      const int ox = nearest(-d.uy * reach), oy = nearest(d.ux * reach);
-      int n = 0;
-      for (const int sgn : {-1, 1}) {
-        const int qx = x + sgn * ox, qy = y + sgn * oy;
-        if (qx < 0 || qy < 0 || qx >= P || qy >= H + 2) continue;
-        const LineSegmentScratch::Direction e = s.dir[static_cast<std::size_t>(qy) * static_cast<std::size_t>(P) + static_cast<std::size_t>(qx)];
-        n += e.ux * d.ux + e.uy * d.uy >= cos_tau;  // NaN: false
+    // Rounding half away from zero, branch-free (candidates' directions are never NaN; -0 gives 0
+    // either way).
+    const auto nearest = [](float v) { return static_cast<int>(v + std::copysign(0.5f, v)); };
+    const LineSegmentScratch::Direction* dir = s.dir.data();
+    const auto rows = static_cast<unsigned>(H + 2), cols = static_cast<unsigned>(P);
+    for (int y = 0; y < H; ++y) {  // candidates row by row (they are in raster order); y + 1 on the padded grid
+      const std::uint32_t row_start = static_cast<std::uint32_t>(y + 1) * static_cast<std::uint32_t>(P);
+      for (std::uint32_t k = s.row_first[static_cast<std::size_t>(y)]; k < s.row_first[static_cast<std::size_t>(y) + 1]; ++k) {
+        const std::uint32_t i = s.candidates[k];
+        const LineSegmentScratch::Direction d = dir[i];
+        const int x = static_cast<int>(i - row_start);
+        const int ox = nearest(-d.uy * reach), oy = nearest(d.ux * reach);
+        int n = 0;
+        for (const int sgn : {-1, 1}) {
+          const int qx = x + sgn * ox, qy = y + 1 + sgn * oy;
+          if (static_cast<unsigned>(qx) >= cols || static_cast<unsigned>(qy) >= rows) continue;
+          const LineSegmentScratch::Direction e = dir[static_cast<std::size_t>(qy) * static_cast<std::size_t>(P) + static_cast<std::size_t>(qx)];
+          n += e.ux * d.ux + e.uy * d.uy >= cos_tau;  // NaN: false
+        }
+        s.aligned[k] = static_cast<std::uint8_t>(n);
       }
-      s.aligned[k] = static_cast<std::uint8_t>(n);
     }
     std::size_t kept = 0;
     for (std::size_t k = 0; k < s.candidates.size(); ++k) {

@@ -66,6 +66,7 @@ struct LineSegmentScratch {
   std::vector<Direction> dir;
   std::vector<float> mag;
   std::vector<std::uint32_t> candidates, order, bin_count;
+  std::vector<std::uint32_t> row_first;  // per gradient row, its first candidate (and one past the last)
   std::vector<std::uint16_t> bin;
   std::vector<std::uint8_t> aligned;
   struct RegionPixel {
