@@ -1,6 +1,7 @@
 #include "detect/payload_area.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 #include <vector>
@@ -45,14 +46,20 @@ bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptio
   const auto centre = [&](int g) { return -1.0 + (g - 0.5) * cell; };
   // Cell means over the grid; NaN where a sample left the image.
   grid.assign(static_cast<std::size_t>(n * n), std::nan(""));
+  // The samples' offsets within a cell, the same for every cell: computed once (up to 16 a side;
+  // the same expression, so the same numbers, as computing them per sample).
+  constexpr int kMaxOffsets = 16;
+  std::array<double, kMaxOffsets> offsets{};
+  const auto offset = [&](int i) { return ((i + 0.5) / k - 0.5) * opt.sample_extent * cell; };
+  for (int i = 0; i < std::min(k, kMaxOffsets); ++i) offsets[static_cast<std::size_t>(i)] = offset(i);
+  const auto offset_of = [&](int i) { return i < kMaxOffsets ? offsets[static_cast<std::size_t>(i)] : offset(i); };
   for (int gy = 0; gy < n; ++gy)
     for (int gx = 0; gx < n; ++gx) {
       double sum = 0;
       bool ok = true;
       for (int j = 0; j < k && ok; ++j)
         for (int i = 0; i < k && ok; ++i) {
-          const double ox = ((i + 0.5) / k - 0.5) * opt.sample_extent * cell;
-          const double oy = ((j + 0.5) / k - 0.5) * opt.sample_extent * cell;
+          const double ox = offset_of(i), oy = offset_of(j);
           const Eigen::Vector2d p = map(Eigen::Vector2d(centre(gx) + ox, centre(gy) + oy));
           if (inside) {
             sum += sample_bilinear_inside(img, p);
