@@ -62,10 +62,11 @@ bool convex_same_winding(const Corners& a, const Corners& b) {
   return true;
 }
 
-// value[j] = sample_bilinear_inside(img, p + steps[j].hi * n) for every step: the same doubles in
-// the same operations, two steps at a time with SSE2 (every lane rounds as the scalar code does).
-// Every sample must lie in sample_bilinear's domain.
-void sample_scan(const ImageF& img, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
+}  // namespace
+
+// The same doubles in the same operations as sample_bilinear_inside, two steps at a time with SSE2
+// (every lane rounds as the scalar code does).
+void detail::sample_scan(const ImageF& img, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
                  const std::vector<EdgeRefineScratch::Step>& steps, float* value) {
   std::size_t j = 0;
 #if defined(__SSE2__)
@@ -102,8 +103,6 @@ void sample_scan(const ImageF& img, const Eigen::Vector2d& p, const Eigen::Vecto
   BilinearCell cell;
   for (; j < steps.size(); ++j) value[j] = sample_bilinear_inside(img, p + steps[j].hi * n, cell);
 }
-
-}  // namespace
 
 namespace {
 
@@ -160,7 +159,7 @@ std::optional<Corners> refine_once(const ImageF& img, const Corners& c, const Ed
       // ends of the scan are inside the image every sample is: no per-sample test.
       if (!img.empty() && inside(p + lo_end * n) && inside(p + hi_end * n)) {
         float* value = scratch.value.data();
-        sample_scan(img, p, n, steps, value);  // every step's `hi` sample
+        detail::sample_scan(img, p, n, steps, value);  // every step's `hi` sample
         BilinearCell cell_lo;  // a quarter-pixel step mostly stays in the same 2 x 2 pixels
         for (std::size_t j = 0; j < steps.size(); ++j) {
           const EdgeRefineScratch::Step& st = steps[j];

@@ -78,4 +78,12 @@ std::optional<Corners> refine_quad_edges(const ImageF& img, const Corners& corne
 std::optional<Corners> refine_quad_edges(const ImageF& img, const Corners& corners, const EdgeRefineOptions& opt,
                                          EdgeRefineScratch& scratch);
 
+namespace detail {
+// value[j] = sample_bilinear_inside(img, p + steps[j].hi * n) (payload_decode.hpp) for every step,
+// bit for bit (two steps at a time where SSE2 is there). Every point must lie inside the image
+// ([0, w - 1] x [0, h - 1]); value holds steps.size() floats.
+void sample_scan(const ImageF& img, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
+                 const std::vector<EdgeRefineScratch::Step>& steps, float* value);
+}  // namespace detail
+
 }  // namespace tagbench

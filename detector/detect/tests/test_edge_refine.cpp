@@ -6,6 +6,7 @@
 #include "codes/tag_layout.hpp"
 #include "detect/blur.hpp"
 #include "detect/edge_refine.hpp"
+#include "detect/payload_decode.hpp"
 #include "synthetic_tag.hpp"
 
 namespace test_edge_refine {
@@ -92,6 +93,44 @@ TEST(EdgeRefine, GammaEncodedEdgesAreLocatedOnLinearisedIntensities) {
   ASSERT_TRUE(a && b);
   EXPECT_LT(corner_rms(*b, truth), 0.08);
   EXPECT_GT(corner_rms(*a, truth), 2 * corner_rms(*b, truth));
+}
+
+// The scan's vectorised sampling gives sample_bilinear_inside's values bit for bit: random images,
+// points and directions, odd and even step counts, points on the last row and column (the clamps).
+TEST(EdgeRefine, ScanSamplesEqualScalarBilinearBitForBit) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u01(0, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    ImageF img;
+    img.width = 2 + static_cast<int>(u01(rng) * 30), img.height = 2 + static_cast<int>(u01(rng) * 30);
+    img.data.resize(static_cast<std::size_t>(img.width * img.height));
+    for (float& v : img.data) v = static_cast<float>(u01(rng));
+    const double a = u01(rng) * 2 * M_PI;
+    const Eigen::Vector2d n(std::cos(a), std::sin(a));
+    const double range = 0.5 + 2 * u01(rng);
+    const int count = 1 + static_cast<int>(u01(rng) * 25);
+    std::vector<EdgeRefineScratch::Step> steps;
+    for (int j = 0; j < count; ++j) steps.push_back({0, -range + 2 * range * j / std::max(1, count - 1), 0, -1});
+    // A centre whose whole scan is inside, sometimes pushed onto the last column / row.
+    const double m = range + 1e-9;
+    if (img.width - 1 < 2 * m || img.height - 1 < 2 * m) continue;
+    Eigen::Vector2d p(m + u01(rng) * (img.width - 1 - 2 * m), m + u01(rng) * (img.height - 1 - 2 * m));
+    if (trial % 5 == 0) {  // a scan along the image's last column, ending on its corner
+      p = Eigen::Vector2d(img.width - 1.0, img.height - 1.0 - range);
+      steps.clear();
+      for (int j = 0; j < count; ++j) steps.push_back({0, range * j / std::max(1, count - 1), 0, -1});
+      const Eigen::Vector2d down(0, 1);
+      std::vector<float> got(steps.size());
+      detail::sample_scan(img, p, down, steps, got.data());
+      for (std::size_t j = 0; j < steps.size(); ++j)
+        EXPECT_EQ(got[j], sample_bilinear_inside(img, p + steps[j].hi * down)) << trial << " " << j;
+      continue;
+    }
+    std::vector<float> got(steps.size());
+    detail::sample_scan(img, p, n, steps, got.data());
+    for (std::size_t j = 0; j < steps.size(); ++j)
+      EXPECT_EQ(got[j], sample_bilinear_inside(img, p + steps[j].hi * n)) << trial << " " << j;
+  }
 }
 
 }  // namespace test_edge_refine
