@@ -2,11 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cmath>
 #include <span>
 #include <vector>
 
 #include <Eigen/Dense>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "detect/homography.hpp"
 
@@ -37,9 +42,53 @@ bool whole_grid_inside(const ImageF& img, const Eigen::Matrix3d& H, int d, const
 // tag's two): `grid` the (d+4)^2 cell means (NaN off the image), `payload` the d x d sharpened values.
 // `inside`: the caller knows every sample lands inside the image (whole_grid_inside), so none is
 // tested; the values are the same as with the test.
+#if defined(__SSE2__)
+// Sum of sample_bilinear_inside(img, apply_homography(H, (u[i], v[i]))) over i < count, in order: the
+// same doubles in the same operations as those calls (apply_homography is (H00 u + H01 v) + H02 over
+// (H20 u + H21 v) + H22), two samples at a time. img is at least 2 x 2 and every point maps inside.
+double homography_samples_sum(const ImageF& img, const Eigen::Matrix3d& H, const double* u, const double* v, int count) {
+  const int w = img.width, xmax = w - 2, ymax = img.height - 2;  // sample_bilinear_inside's clamps
+  const float* data = img.data.data();
+  const __m128d one = _mm_set1_pd(1.0);
+  const auto h = [&](int r, int c) { return _mm_set1_pd(H(r, c)); };
+  const __m128d h00 = h(0, 0), h01 = h(0, 1), h02 = h(0, 2), h10 = h(1, 0), h11 = h(1, 1), h12 = h(1, 2);
+  const __m128d h20 = h(2, 0), h21 = h(2, 1), h22 = h(2, 2);
+  double sum = 0;
+  int i = 0;
+  for (; i + 2 <= count; i += 2) {
+    const __m128d uu = _mm_loadu_pd(u + i), vv = _mm_loadu_pd(v + i);
+    const __m128d x = _mm_add_pd(_mm_add_pd(_mm_mul_pd(h00, uu), _mm_mul_pd(h01, vv)), h02);
+    const __m128d y = _mm_add_pd(_mm_add_pd(_mm_mul_pd(h10, uu), _mm_mul_pd(h11, vv)), h12);
+    const __m128d z = _mm_add_pd(_mm_add_pd(_mm_mul_pd(h20, uu), _mm_mul_pd(h21, vv)), h22);
+    const __m128d qx = _mm_div_pd(x, z), qy = _mm_div_pd(y, z);
+    alignas(16) std::int32_t ix[4], iy[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(ix), _mm_cvttpd_epi32(qx));
+    _mm_store_si128(reinterpret_cast<__m128i*>(iy), _mm_cvttpd_epi32(qy));
+    const int x0a = std::min(ix[0], xmax), x0b = std::min(ix[1], xmax);
+    const int y0a = std::min(iy[0], ymax), y0b = std::min(iy[1], ymax);
+    const float* ra = data + static_cast<std::ptrdiff_t>(y0a) * w + x0a;
+    const float* rb = data + static_cast<std::ptrdiff_t>(y0b) * w + x0b;
+    const __m128d v00 = _mm_set_pd(rb[0], ra[0]), v10 = _mm_set_pd(rb[1], ra[1]);
+    const __m128d v01 = _mm_set_pd(rb[w], ra[w]), v11 = _mm_set_pd(rb[w + 1], ra[w + 1]);
+    const __m128d fx = _mm_sub_pd(qx, _mm_set_pd(x0b, x0a)), fy = _mm_sub_pd(qy, _mm_set_pd(y0b, y0a));
+    const __m128d gx = _mm_sub_pd(one, fx), gy = _mm_sub_pd(one, fy);
+    const __m128d top = _mm_add_pd(_mm_mul_pd(v00, gx), _mm_mul_pd(v10, fx));
+    const __m128d bot = _mm_add_pd(_mm_mul_pd(v01, gx), _mm_mul_pd(v11, fx));
+    alignas(16) float out[4];
+    _mm_store_ps(out, _mm_cvtpd_ps(_mm_add_pd(_mm_mul_pd(top, gy), _mm_mul_pd(bot, fy))));
+    sum += out[0];
+    sum += out[1];
+  }
+  for (; i < count; ++i) sum += sample_bilinear_inside(img, apply_homography(H, Eigen::Vector2d(u[i], v[i])));
+  return sum;
+}
+#endif
+
+// `homography`: map is apply_homography with it (then, with inside, the samples are taken two at a
+// time: homography_samples_sum, the same numbers).
 template <class Map>
 bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt, std::vector<double>& grid,
-                std::vector<double>& payload, bool inside = false) {
+                std::vector<double>& payload, bool inside = false, const Eigen::Matrix3d* homography = nullptr) {
   if (d < 1 || d > 8 || opt.samples_per_side < 1 || !(opt.sample_extent >= 0)) return false;
   const int n = d + 4, k = opt.samples_per_side;
   const double cell = 2.0 / (d + 2);
@@ -53,6 +102,20 @@ bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptio
   const auto offset = [&](int i) { return ((i + 0.5) / k - 0.5) * opt.sample_extent * cell; };
   for (int i = 0; i < std::min(k, kMaxOffsets); ++i) offsets[static_cast<std::size_t>(i)] = offset(i);
   const auto offset_of = [&](int i) { return i < kMaxOffsets ? offsets[static_cast<std::size_t>(i)] : offset(i); };
+#if defined(__SSE2__)
+  if (homography && inside && k <= kMaxOffsets && img.width >= 2 && img.height >= 2) {
+    std::array<double, kMaxOffsets * kMaxOffsets> u, v;  // a cell's sample points, in the loop's order
+    for (int gy = 0; gy < n; ++gy)
+      for (int gx = 0; gx < n; ++gx) {
+        for (int j = 0; j < k; ++j)
+          for (int i = 0; i < k; ++i) {
+            u[static_cast<std::size_t>(j * k + i)] = centre(gx) + offsets[static_cast<std::size_t>(i)];
+            v[static_cast<std::size_t>(j * k + i)] = centre(gy) + offsets[static_cast<std::size_t>(j)];
+          }
+        grid[static_cast<std::size_t>(gy * n + gx)] = homography_samples_sum(img, *homography, u.data(), v.data(), k * k) / (k * k);
+      }
+  } else
+#endif
   for (int gy = 0; gy < n; ++gy)
     for (int gx = 0; gx < n; ++gx) {
       double sum = 0;
@@ -103,9 +166,9 @@ bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptio
 // The ring models' reading (read_payload_area).
 template <class Map>
 std::optional<PayloadReading> read_area(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt,
-                                        bool keep_points, bool inside = false) {
+                                        bool keep_points, bool inside = false, const Eigen::Matrix3d* homography = nullptr) {
   std::vector<double> grid, payload;
-  if (!area_cells(img, map, d, opt, grid, payload, inside)) return std::nullopt;
+  if (!area_cells(img, map, d, opt, grid, payload, inside, homography)) return std::nullopt;
   auto r = decide_cells(grid, payload, d, opt.min_contrast);
   if (r && keep_points) add_sample_points(grid, d, map, *r);
   return r;
@@ -174,7 +237,7 @@ std::optional<PayloadReading> read_payload_self_threshold(const ImageF& img, con
 std::optional<PayloadReading> read_payload_area(const ImageF& img, const Eigen::Matrix3d& H, int d,
                                                 const PayloadAreaOptions& opt, bool keep_points) {
   return read_area(img, [&](const Eigen::Vector2d& u) { return apply_homography(H, u); }, d, opt, keep_points,
-                   whole_grid_inside(img, H, d, opt));
+                   whole_grid_inside(img, H, d, opt), &H);
 }
 
 std::optional<PayloadReading> read_payload_area(const ImageF& img, const TagToImage& map, int d,

@@ -178,4 +178,38 @@ TEST(PayloadSelfThreshold, RefusesMostNoiseAndFlatQuads) {
   EXPECT_FALSE(read_payload_self_threshold(ImageF(60, 60, 0.5f), H, 6, PayloadAreaOptions{}).has_value());
 }
 
+// The homography reader's samples (taken two at a time) sum to the same cell means as the generic
+// map's, for k = 1..5 samples a side and random perspective quads over a random image.
+TEST(PayloadArea, HomographyReadingEqualsTheGenericMapsOnRandomQuads) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u01(0, 1);
+  ImageF img;
+  img.width = 80, img.height = 70;
+  img.data.resize(static_cast<std::size_t>(img.width * img.height));
+  for (float& v : img.data) v = static_cast<float>(u01(rng));
+  int read = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const double cx = 25 + 30 * u01(rng), cy = 25 + 20 * u01(rng), r = 6 + 12 * u01(rng), a = 6.3 * u01(rng);
+    Corners c;
+    for (int i = 0; i < 4; ++i) {
+      const double t = a + i * M_PI / 2;
+      c[static_cast<std::size_t>(i)] = Eigen::Vector2d(cx + r * std::cos(t) + 3 * u01(rng), cy + r * std::sin(t) + 3 * u01(rng));
+    }
+    const Eigen::Matrix3d H = synth::homography_for(c);
+    PayloadAreaOptions opt;
+    opt.samples_per_side = 1 + trial % 5;
+    opt.min_contrast = 0;
+    const auto x = read_payload_area(img, H, 6, opt);
+    const auto y = read_payload_area(img, TagToImage([&](const Eigen::Vector2d& p) { return apply_homography(H, p); }), 6, opt);
+    ASSERT_EQ(x.has_value(), y.has_value()) << trial;
+    if (!x) continue;
+    ++read;
+    EXPECT_EQ(x->bits, y->bits) << trial;
+    EXPECT_EQ(x->margin, y->margin) << trial;
+    EXPECT_EQ(x->contrast, y->contrast) << trial;
+    EXPECT_EQ(x->confidence, y->confidence) << trial;
+  }
+  EXPECT_GE(read, 20);
+}
+
 }  // namespace test_payload_area
