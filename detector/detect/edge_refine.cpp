@@ -2,12 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <vector>
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include <Eigen/Dense>
 
@@ -71,32 +66,11 @@ void detail::sample_scan(const ImageF& img, const Eigen::Vector2d& p, const Eige
   std::size_t j = 0;
 #if defined(__SSE2__)
   if (img.width >= 2 && img.height >= 2) {
-    const int w = img.width;
     const __m128d px = _mm_set1_pd(p.x()), py = _mm_set1_pd(p.y()), nx = _mm_set1_pd(n.x()), ny = _mm_set1_pd(n.y());
-    const __m128d one = _mm_set1_pd(1.0);
-    const int xmax = w - 2, ymax = img.height - 2;  // sample_bilinear_inside's clamps (x0 <= w - 2)
-    const float* data = img.data.data();
     for (; j + 2 <= steps.size(); j += 2) {
       const __m128d off = _mm_set_pd(steps[j + 1].hi, steps[j].hi);
       const __m128d qx = _mm_add_pd(px, _mm_mul_pd(off, nx)), qy = _mm_add_pd(py, _mm_mul_pd(off, ny));
-      // Truncation toward zero, as static_cast<int> (the points are inside: >= 0), then the clamps.
-      alignas(16) std::int32_t ix[4], iy[4];
-      _mm_store_si128(reinterpret_cast<__m128i*>(ix), _mm_cvttpd_epi32(qx));
-      _mm_store_si128(reinterpret_cast<__m128i*>(iy), _mm_cvttpd_epi32(qy));
-      const int x0a = std::min(ix[0], xmax), x0b = std::min(ix[1], xmax);
-      const int y0a = std::min(iy[0], ymax), y0b = std::min(iy[1], ymax);
-      const float* ra = data + static_cast<std::ptrdiff_t>(y0a) * w + x0a;
-      const float* rb = data + static_cast<std::ptrdiff_t>(y0b) * w + x0b;
-      const __m128d v00 = _mm_set_pd(rb[0], ra[0]), v10 = _mm_set_pd(rb[1], ra[1]);
-      const __m128d v01 = _mm_set_pd(rb[w], ra[w]), v11 = _mm_set_pd(rb[w + 1], ra[w + 1]);
-      const __m128d fx = _mm_sub_pd(qx, _mm_set_pd(x0b, x0a)), fy = _mm_sub_pd(qy, _mm_set_pd(y0b, y0a));
-      const __m128d gx = _mm_sub_pd(one, fx), gy = _mm_sub_pd(one, fy);
-      const __m128d top = _mm_add_pd(_mm_mul_pd(v00, gx), _mm_mul_pd(v10, fx));
-      const __m128d bot = _mm_add_pd(_mm_mul_pd(v01, gx), _mm_mul_pd(v11, fx));
-      const __m128 v = _mm_cvtpd_ps(_mm_add_pd(_mm_mul_pd(top, gy), _mm_mul_pd(bot, fy)));
-      alignas(16) float out[4];
-      _mm_store_ps(out, v);
-      value[j] = out[0], value[j + 1] = out[1];
+      sample_bilinear_inside_pair(img, qx, qy, value + j);
     }
   }
 #endif

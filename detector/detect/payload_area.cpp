@@ -2,16 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdint>
 #include <cmath>
 #include <span>
 #include <vector>
 
 #include <Eigen/Dense>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include "detect/homography.hpp"
 
@@ -47,9 +43,6 @@ bool whole_grid_inside(const ImageF& img, const Eigen::Matrix3d& H, int d, const
 // same doubles in the same operations as those calls (apply_homography is (H00 u + H01 v) + H02 over
 // (H20 u + H21 v) + H22), two samples at a time. img is at least 2 x 2 and every point maps inside.
 double homography_samples_sum(const ImageF& img, const Eigen::Matrix3d& H, const double* u, const double* v, int count) {
-  const int w = img.width, xmax = w - 2, ymax = img.height - 2;  // sample_bilinear_inside's clamps
-  const float* data = img.data.data();
-  const __m128d one = _mm_set1_pd(1.0);
   const auto h = [&](int r, int c) { return _mm_set1_pd(H(r, c)); };
   const __m128d h00 = h(0, 0), h01 = h(0, 1), h02 = h(0, 2), h10 = h(1, 0), h11 = h(1, 1), h12 = h(1, 2);
   const __m128d h20 = h(2, 0), h21 = h(2, 1), h22 = h(2, 2);
@@ -61,21 +54,8 @@ double homography_samples_sum(const ImageF& img, const Eigen::Matrix3d& H, const
     const __m128d y = _mm_add_pd(_mm_add_pd(_mm_mul_pd(h10, uu), _mm_mul_pd(h11, vv)), h12);
     const __m128d z = _mm_add_pd(_mm_add_pd(_mm_mul_pd(h20, uu), _mm_mul_pd(h21, vv)), h22);
     const __m128d qx = _mm_div_pd(x, z), qy = _mm_div_pd(y, z);
-    alignas(16) std::int32_t ix[4], iy[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(ix), _mm_cvttpd_epi32(qx));
-    _mm_store_si128(reinterpret_cast<__m128i*>(iy), _mm_cvttpd_epi32(qy));
-    const int x0a = std::min(ix[0], xmax), x0b = std::min(ix[1], xmax);
-    const int y0a = std::min(iy[0], ymax), y0b = std::min(iy[1], ymax);
-    const float* ra = data + static_cast<std::ptrdiff_t>(y0a) * w + x0a;
-    const float* rb = data + static_cast<std::ptrdiff_t>(y0b) * w + x0b;
-    const __m128d v00 = _mm_set_pd(rb[0], ra[0]), v10 = _mm_set_pd(rb[1], ra[1]);
-    const __m128d v01 = _mm_set_pd(rb[w], ra[w]), v11 = _mm_set_pd(rb[w + 1], ra[w + 1]);
-    const __m128d fx = _mm_sub_pd(qx, _mm_set_pd(x0b, x0a)), fy = _mm_sub_pd(qy, _mm_set_pd(y0b, y0a));
-    const __m128d gx = _mm_sub_pd(one, fx), gy = _mm_sub_pd(one, fy);
-    const __m128d top = _mm_add_pd(_mm_mul_pd(v00, gx), _mm_mul_pd(v10, fx));
-    const __m128d bot = _mm_add_pd(_mm_mul_pd(v01, gx), _mm_mul_pd(v11, fx));
-    alignas(16) float out[4];
-    _mm_store_ps(out, _mm_cvtpd_ps(_mm_add_pd(_mm_mul_pd(top, gy), _mm_mul_pd(bot, fy))));
+    alignas(16) float out[2];
+    sample_bilinear_inside_pair(img, qx, qy, out);
     sum += out[0];
     sum += out[1];
   }

@@ -11,6 +11,12 @@
 // Intensities are bilinear samples of the decoding image (pixel centres at integer coordinates).
 // The bits come out in AprilTag 1 order as seen through the quad: the MSB is the cell nearest the
 // quad's first corner; the decoder's rotation then says which corner is the printed top-left.
+#include <cstdint>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -76,6 +82,32 @@ inline float sample_bilinear_inside(const ImageF& img, const Eigen::Vector2d& p)
   const double bot = img.at(x0, y1) * (1 - fx) + img.at(x1, y1) * fx;
   return static_cast<float>(top * (1 - fy) + bot * fy);
 }
+
+#if defined(__SSE2__)
+// sample_bilinear_inside at the two points (qx[0], qy[0]) and (qx[1], qy[1]) into out[0], out[1]: the
+// same doubles in the same operations in each lane, so the same floats. img is at least 2 x 2 and
+// both points lie in [0, w - 1] x [0, h - 1].
+inline void sample_bilinear_inside_pair(const ImageF& img, __m128d qx, __m128d qy, float* out) {
+  const int w = img.width, xmax = w - 2, ymax = img.height - 2;  // x0 <= w - 2, so x1 = x0 + 1
+  alignas(16) std::int32_t ix[4], iy[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(ix), _mm_cvttpd_epi32(qx));  // truncation, as static_cast<int>
+  _mm_store_si128(reinterpret_cast<__m128i*>(iy), _mm_cvttpd_epi32(qy));
+  const int x0a = std::min(ix[0], xmax), x0b = std::min(ix[1], xmax);
+  const int y0a = std::min(iy[0], ymax), y0b = std::min(iy[1], ymax);
+  const float* ra = img.data.data() + static_cast<std::ptrdiff_t>(y0a) * w + x0a;
+  const float* rb = img.data.data() + static_cast<std::ptrdiff_t>(y0b) * w + x0b;
+  const __m128d v00 = _mm_set_pd(rb[0], ra[0]), v10 = _mm_set_pd(rb[1], ra[1]);
+  const __m128d v01 = _mm_set_pd(rb[w], ra[w]), v11 = _mm_set_pd(rb[w + 1], ra[w + 1]);
+  const __m128d one = _mm_set1_pd(1.0);
+  const __m128d fx = _mm_sub_pd(qx, _mm_set_pd(x0b, x0a)), fy = _mm_sub_pd(qy, _mm_set_pd(y0b, y0a));
+  const __m128d gx = _mm_sub_pd(one, fx), gy = _mm_sub_pd(one, fy);
+  const __m128d top = _mm_add_pd(_mm_mul_pd(v00, gx), _mm_mul_pd(v10, fx));
+  const __m128d bot = _mm_add_pd(_mm_mul_pd(v01, gx), _mm_mul_pd(v11, fx));
+  alignas(16) float v[4];
+  _mm_store_ps(v, _mm_cvtpd_ps(_mm_add_pd(_mm_mul_pd(top, gy), _mm_mul_pd(bot, fy))));
+  out[0] = v[0], out[1] = v[1];
+}
+#endif
 
 // The same along a scan whose consecutive points mostly fall in the same 2 x 2 pixels (edge scans
 // step a quarter pixel): the four pixels are read again only when the cell changes. The same value
