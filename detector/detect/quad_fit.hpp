@@ -116,4 +116,11 @@ std::optional<Corners> fit_innermost_outline(const ImageF& img, const QuadFitOpt
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& scratch,
                std::vector<Quad>& out);
 
+namespace detail {
+// The quad fit's kernel line-fit errors (corner_candidates): for i in [lo, hi), err[i] = (2k + 1) x the
+// small eigenvalue of the covariance of points i - k .. i + k, from the cumulative moments
+// (cum[i + k] - cum[i - k - 1]; so lo >= k + 1). The same numbers whether or not SSE2 takes two at a time.
+void kernel_errors(const QuadFitScratch::Moments* cum, int k, int lo, int hi, double* err);
+}  // namespace detail
+
 }  // namespace tagbench

@@ -250,4 +250,40 @@ TEST(QuadFit, RefitOneSideFindsTheSquareInsideAMixedGroup) {
   EXPECT_LT(corner_error(quads[0].corners, tilted(40, 40, 10, 0)), 0.6);
 }
 
+// The kernel errors (two points at a time with SSE2) are the scalar formula's numbers bit for bit:
+// cumulative moments of random weighted points, odd and even spans, collinear runs (error 0 or a
+// rounding residue, where max(0, .) matters).
+TEST(QuadFit, KernelErrorsEqualTheScalarFormulaBitForBit) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u01(0, 1);
+  for (int trial = 0; trial < 100; ++trial) {
+    const int n = 30 + static_cast<int>(u01(rng) * 200), k = 2 + static_cast<int>(u01(rng) * 10);
+    std::vector<QuadFitScratch::Moments> cum(static_cast<std::size_t>(n));
+    QuadFitScratch::Moments m{};
+    for (int i = 0; i < n; ++i) {
+      // Every third trial on a line (x = y), else scattered; weights as the fit gives them (>= 1).
+      const double x = trial % 3 == 0 ? i * 0.5 : 40 * u01(rng), y = trial % 3 == 0 ? i * 0.5 : 40 * u01(rng);
+      const double w = 1 + 200 * u01(rng);
+      m.mx += w * x, m.my += w * y, m.mxx += w * x * x, m.mxy += w * x * y, m.myy += w * y * y, m.w += w;
+      cum[static_cast<std::size_t>(i)] = m;
+    }
+    const int lo = k + 1, hi = n - k;
+    std::vector<double> got(static_cast<std::size_t>(n), -1.0);
+    detail::kernel_errors(cum.data(), k, lo, hi, got.data());
+    for (int i = lo; i < hi; ++i) {
+      const auto& a = cum[static_cast<std::size_t>(i + k)];
+      const auto& b = cum[static_cast<std::size_t>(i - k - 1)];
+      const double mx = a.mx - b.mx, my = a.my - b.my, mxx = a.mxx - b.mxx, mxy = a.mxy - b.mxy,
+                   myy = a.myy - b.myy, mw = a.w - b.w;
+      const double ex = mx / mw, ey = my / mw;
+      const double cxx = mxx / mw - ex * ex, cxy = mxy / mw - ex * ey, cyy = myy / mw - ey * ey;
+      const double root = std::sqrt((cxx - cyy) * (cxx - cyy) + 4 * cxy * cxy);
+      const double want = (2 * k + 1) * std::max(0.0, 0.5 * (cxx + cyy - root));
+      EXPECT_EQ(got[static_cast<std::size_t>(i)], want) << trial << " " << i;
+    }
+    EXPECT_EQ(got[static_cast<std::size_t>(lo - 1)], -1.0);  // nothing written outside [lo, hi)
+    EXPECT_EQ(got[static_cast<std::size_t>(hi)], -1.0);
+  }
+}
+
 }  // namespace test_quad_fit
