@@ -168,7 +168,9 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
         // gets a quiet NaN's bits ORed in, its magnitude is masked to 0 for the maximum (which is >= 0).
         const std::uint32_t drop = 0u - static_cast<std::uint32_t>(!keep);
         const auto [gx, gy] = gradient(x);
-        const float div = std::max(m, 1e-30f);  // a kept m (>= floor > 1e-30, or NaN) unchanged
+        // m itself where kept, 1 where dropped (no division by zero; the quotient is masked anyway).
+        const float div = std::bit_cast<float>((std::bit_cast<std::uint32_t>(m) & ~drop) |
+                                               (std::bit_cast<std::uint32_t>(1.0f) & drop));
         d[x] = {std::bit_cast<float>(std::bit_cast<std::uint32_t>(gx / div) | (drop & 0x7fc00000u)),
                 std::bit_cast<float>(std::bit_cast<std::uint32_t>(gy / div) | (drop & 0x7fc00000u))};
         cand[count] = static_cast<std::uint32_t>(row + static_cast<std::size_t>(x));
