@@ -13,6 +13,10 @@
 #include <span>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // homogeneous(), hnormalized()
 
@@ -49,6 +53,21 @@ inline Eigen::Vector2d apply_homography(const Eigen::Matrix3d& H, const Eigen::V
   const Eigen::Vector3d q = H * p.homogeneous();
   return q.hnormalized();
 }
+
+#if defined(__SSE2__)
+// apply_homography at the two points (u[0], v[0]) and (u[1], v[1]) into (x[k], y[k]): each lane
+// (H00 u + H01 v) + H02 over (H20 u + H21 v) + H22, the operations and order of apply_homography,
+// so the same doubles (tests/test_homography.cpp).
+inline void apply_homography_pair(const Eigen::Matrix3d& H, __m128d u, __m128d v, __m128d& x, __m128d& y) {
+  const auto row = [&](int r) {
+    return _mm_add_pd(_mm_add_pd(_mm_mul_pd(_mm_set1_pd(H(r, 0)), u), _mm_mul_pd(_mm_set1_pd(H(r, 1)), v)),
+                      _mm_set1_pd(H(r, 2)));
+  };
+  const __m128d z = row(2);
+  x = _mm_div_pd(row(0), z);
+  y = _mm_div_pd(row(1), z);
+}
+#endif
 
 // Whether p lies inside the convex quad q (either winding); a point on a side counts as inside. False
 // when a NaN is involved and when all four corners lie on one line (no inside to speak of).

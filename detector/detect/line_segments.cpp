@@ -161,21 +161,21 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
       std::size_t count = 0;
       LineSegmentScratch::Direction* d = s.dir.data() + row;
       float top = max_mag;
+      // Selections by bit masks (a float select compiles to a branch): `kept` where the mask is clear,
+      // `dropped` where it is all ones.
+      const auto choose = [](std::uint32_t drop, float kept, float dropped) {
+        return std::bit_cast<float>((std::bit_cast<std::uint32_t>(kept) & ~drop) | (std::bit_cast<std::uint32_t>(dropped) & drop));
+      };
       for (int x = x0; x < x1; ++x) {
         const float m = m_row[x];
         const bool keep = !(m < floor);
-        // Selections by bit masks (a float select compiles to a branch): a dropped pixel's direction
-        // gets a quiet NaN's bits ORed in, its magnitude is masked to 0 for the maximum (which is >= 0).
         const std::uint32_t drop = 0u - static_cast<std::uint32_t>(!keep);
         const auto [gx, gy] = gradient(x);
-        // m itself where kept, 1 where dropped (no division by zero; the quotient is masked anyway).
-        const float div = std::bit_cast<float>((std::bit_cast<std::uint32_t>(m) & ~drop) |
-                                               (std::bit_cast<std::uint32_t>(1.0f) & drop));
-        d[x] = {std::bit_cast<float>(std::bit_cast<std::uint32_t>(gx / div) | (drop & 0x7fc00000u)),
-                std::bit_cast<float>(std::bit_cast<std::uint32_t>(gy / div) | (drop & 0x7fc00000u))};
+        const float div = choose(drop, m, 1.0f);  // no division by zero where dropped
+        d[x] = {choose(drop, gx / div, kNaN), choose(drop, gy / div, kNaN)};
         cand[count] = static_cast<std::uint32_t>(row + static_cast<std::size_t>(x));
         count += keep;
-        top = std::max(top, std::bit_cast<float>(std::bit_cast<std::uint32_t>(m) & ~drop));
+        top = std::max(top, choose(drop, m, 0.0f));  // the maximum is >= 0: a dropped pixel leaves it
       }
       max_mag = top;
       s.candidates.resize(first + count);

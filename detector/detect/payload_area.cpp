@@ -8,7 +8,6 @@
 
 #include <Eigen/Dense>
 
-
 #include "detect/homography.hpp"
 
 namespace tagbench {
@@ -34,26 +33,16 @@ bool whole_grid_inside(const ImageF& img, const Eigen::Matrix3d& H, int d, const
   return true;
 }
 
-// The cells of a reading through any map of tag coordinates to the image (a homography, or a folded
-// tag's two): `grid` the (d+4)^2 cell means (NaN off the image), `payload` the d x d sharpened values.
-// `inside`: the caller knows every sample lands inside the image (whole_grid_inside), so none is
-// tested; the values are the same as with the test.
 #if defined(__SSE2__)
 // Sum of sample_bilinear_inside(img, apply_homography(H, (u[i], v[i]))) over i < count, in order: the
-// same doubles in the same operations as those calls (apply_homography is (H00 u + H01 v) + H02 over
-// (H20 u + H21 v) + H22), two samples at a time. img is at least 2 x 2 and every point maps inside.
+// same doubles in the same operations as those calls, two samples at a time. img is at least 2 x 2
+// and every point maps inside.
 double homography_samples_sum(const ImageF& img, const Eigen::Matrix3d& H, const double* u, const double* v, int count) {
-  const auto h = [&](int r, int c) { return _mm_set1_pd(H(r, c)); };
-  const __m128d h00 = h(0, 0), h01 = h(0, 1), h02 = h(0, 2), h10 = h(1, 0), h11 = h(1, 1), h12 = h(1, 2);
-  const __m128d h20 = h(2, 0), h21 = h(2, 1), h22 = h(2, 2);
   double sum = 0;
   int i = 0;
   for (; i + 2 <= count; i += 2) {
-    const __m128d uu = _mm_loadu_pd(u + i), vv = _mm_loadu_pd(v + i);
-    const __m128d x = _mm_add_pd(_mm_add_pd(_mm_mul_pd(h00, uu), _mm_mul_pd(h01, vv)), h02);
-    const __m128d y = _mm_add_pd(_mm_add_pd(_mm_mul_pd(h10, uu), _mm_mul_pd(h11, vv)), h12);
-    const __m128d z = _mm_add_pd(_mm_add_pd(_mm_mul_pd(h20, uu), _mm_mul_pd(h21, vv)), h22);
-    const __m128d qx = _mm_div_pd(x, z), qy = _mm_div_pd(y, z);
+    __m128d qx, qy;
+    apply_homography_pair(H, _mm_loadu_pd(u + i), _mm_loadu_pd(v + i), qx, qy);
     alignas(16) float out[2];
     sample_bilinear_inside_pair(img, qx, qy, out);
     sum += out[0];
@@ -64,7 +53,10 @@ double homography_samples_sum(const ImageF& img, const Eigen::Matrix3d& H, const
 }
 #endif
 
-// `homography`: map is apply_homography with it (then, with inside, the samples are taken two at a
+// The cells of a reading through any map of tag coordinates to the image (a homography, or a folded
+// tag's two): `grid` the (d+4)^2 cell means (NaN off the image), `payload` the d x d sharpened values.
+// `inside`: the caller knows every sample lands inside the image (whole_grid_inside), so none is
+// tested; the values are the same as with the test. `homography`: map is apply_homography with it (then, with inside, the samples are taken two at a
 // time: homography_samples_sum, the same numbers).
 template <class Map>
 bool area_cells(const ImageF& img, const Map& map, int d, const PayloadAreaOptions& opt, std::vector<double>& grid,
