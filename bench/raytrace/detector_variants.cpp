@@ -167,6 +167,10 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "dq_ring") o.dark_outlines.ring_check = x != 0;
     else if (k == "dq_overlap") o.dark_outlines.overlap_clusters = x != 0;
     else if (k == "dq_oring") o.dark_outlines.overlap_ring_check = x != 0;
+    else if (k == "dq_pairs") o.dark_outlines.failed_pairs = x != 0;
+    else if (k == "dq_ppts") o.dark_outlines.pair_min_points = static_cast<int>(x);
+    else if (k == "dq_pshare") o.dark_outlines.pair_min_share = x;
+    else if (k == "dq_pmargin") o.dark_outlines.pair_margin_px = x;
     else if (k == "dq_light") o.dark_outlines.by_light = x != 0;
     else if (k == "dq_outline") o.dark_outlines.outline_only = x != 0;
     else if (k == "dq_check") o.dark_outlines.check_before_refining = x != 0;

@@ -1,6 +1,7 @@
 #include "detect/dark_outlines.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -20,7 +21,8 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
                                      std::span<const Corners> covered, const QuadFitOptions& fit,
                                      const EdgeRefineOptions& refine, const DarkOutlineOptions& opt,
                                      QuadFitScratch& fit_scratch, DarkOutlineScratch& s,
-                                     const ThresholdQuadOptions::RefineCheck& check) {
+                                     const ThresholdQuadOptions::RefineCheck& check,
+                                     std::span<const std::uint8_t> gave_quad) {
   std::vector<Quad> out;
   if (!opt.enabled) return out;
   if (components.width != img.width || components.height != img.height)
@@ -106,6 +108,30 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
   };
   join_by(-1);
   if (opt.by_light) join_by(1);
+  if (opt.failed_pairs && gave_quad.size() == groups.count()) {
+    s.failed.clear();
+    for (std::size_t g = 0; g < groups.count(); ++g) {
+      if (gave_quad[g]) continue;
+      const DoubledBox b = bounding_box(groups.group(g));
+      if (groups.group(g).size() >= static_cast<std::size_t>(opt.pair_min_points) && longer_side_px(b) <= opt.max_size_px)
+        s.failed.emplace_back(b, static_cast<std::uint32_t>(g));
+    }
+    std::sort(s.failed.begin(), s.failed.end(), [](const auto& a, const auto& b) {
+      return a.first.xmin < b.first.xmin || (a.first.xmin == b.first.xmin && a.second < b.second);
+    });
+    const int m = static_cast<int>(std::lround(4 * opt.pair_margin_px));  // both boxes grown: doubled px
+    for (std::size_t a = 0; a < s.failed.size(); ++a)
+      for (std::size_t b = a + 1; b < s.failed.size() && s.failed[b].first.xmin <= s.failed[a].first.xmax + m; ++b) {
+        const DoubledBox &ba = s.failed[a].first, &bb = s.failed[b].first;
+        if (bb.ymin > ba.ymax + m || ba.ymin > bb.ymax + m) continue;
+        const DoubledBox u = merged(ba, bb);
+        if (!joinable(2, u)) continue;
+        if (std::min(longer_side_px(ba), longer_side_px(bb)) < opt.pair_min_share * longer_side_px(u)) continue;
+        add_group(s.failed[a].second);
+        add_group(s.failed[b].second);
+        close_joined(true);
+      }
+  }
   if (s.joined.offsets.size() == 1) s.joined.offsets.clear();
   s.fitted.clear();
   QuadFitOptions f = fit;

@@ -52,6 +52,17 @@ struct DarkOutlineOptions {
   // The fit's ring check (QuadFitOptions::outer.ring_check, where it is on) asked of the overlap
   // clusters' outlines, whatever ring_check says: their ring is whole, their border the broken part.
   bool overlap_ring_check = true;
+  // Pairs of groups that each gave no quad alone (fit_quads' gave_quad) and whose boxes, each at most
+  // max_size_px across and grown by pair_margin_px, overlap, joined when the pair's box is of tag size,
+  // whatever components they share: a border split into pieces by a ring broken in two places and a
+  // border broken once. Fitted like an overlap cluster (its ring check). Off in every profile (issue
+  // 17, session 40; docs/default-profile.md): realistic seeds 1 / 2 (200 frames) 1102 -> 1106 and
+  // 1051 -> 1053 tags, 20-24 px 173 -> 174 and 179 -> 179, for +12 % detector instructions; with
+  // pair_min_points 24 and pair_min_share 0.5, +3 / +2 tags (20-24 px none) for +4.5 %.
+  bool failed_pairs = false;
+  double pair_margin_px = 1.0;  // >= 0
+  int pair_min_points = 0;       // each group of a pair has at least this many boundary points, >= 0
+  double pair_min_share = 0;     // each group's box's longer side at least this share of the pair's, [0, 1]
   // Each joined outline fitted only by its outer outline (then its innermost outward outline), not by
   // the whole chain of fit_quads (the whole group, one side, the occluded fit): a joined outline
   // holds several outlines by construction.
@@ -75,6 +86,7 @@ struct DarkOutlineScratch {
   std::vector<Member> cluster;                                   // overlap_clusters: one component's groups
   std::vector<std::pair<std::uint32_t, std::uint32_t>> members;  // (cluster root, index into cluster)
   std::vector<bool> from_cluster;                                // per joined group: an overlap cluster's
+  std::vector<std::pair<DoubledBox, std::uint32_t>> failed;      // failed_pairs: (box, group), by xmin
   BoundaryGroups joined;
   std::vector<Quad> fitted;
   EdgeRefineScratch refine;
@@ -89,6 +101,7 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
                                      std::span<const Corners> covered, const QuadFitOptions& fit,
                                      const EdgeRefineOptions& refine, const DarkOutlineOptions& opt,
                                      QuadFitScratch& fit_scratch, DarkOutlineScratch& scratch,
-                                     const ThresholdQuadOptions::RefineCheck& check = {});
+                                     const ThresholdQuadOptions::RefineCheck& check = {},
+                                     std::span<const std::uint8_t> gave_quad = {});
 
 }  // namespace tagbench

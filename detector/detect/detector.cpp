@@ -223,7 +223,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     auto& tq = workspace.impl().threshold_quads;  // dark_outlines.hpp: a dark component's groups joined
     decode_more(dark_outline_quads(tq.pass.groups, tq.pass.components, gray, covered(), opt_.threshold_quads.fit,
                                    opt_.threshold_quads.refine, opt_.dark_outlines, tq.fit,
-                                   workspace.impl().dark_outlines, opt_.threshold_quads.refine_check));
+                                   workspace.impl().dark_outlines, opt_.threshold_quads.refine_check, tq.gave_quad));
   }
   if (opt_.coarse_pass.enabled && opt_.quad_finder == QuadFinderKind::kThreshold && !opt_.half_resolution)
     decode_more(coarse_pass_quads(gray, opt_.threshold_quads, covered(), opt_.coarse_pass,  // coarse_pass.hpp

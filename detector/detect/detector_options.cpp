@@ -299,6 +299,9 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   int_within("dark_outlines.min_groups", dark_outlines.min_groups, 2, 1 << 20);
   int_within("dark_outlines.max_groups", dark_outlines.max_groups, dark_outlines.min_groups, 1 << 20);
   int_within("dark_outlines.slack_sides", dark_outlines.slack_sides, 0, 4);
+  finite_at_least("dark_outlines.pair_margin_px", dark_outlines.pair_margin_px, 0);
+  int_within("dark_outlines.pair_min_points", dark_outlines.pair_min_points, 0, 1 << 30);
+  within("dark_outlines.pair_min_share", dark_outlines.pair_min_share, 0, 1);
   finite_above("line_quads.max_side_px", line_quads.max_side_px, 0);
   finite_at_least("line_quads.min_side_px", line_quads.min_side_px, 0);
   finite_above("line_quads.scale", line_quads.scale, 0);

@@ -303,7 +303,8 @@ std::optional<Corners> fit_innermost_outline(const ImageF& img, const QuadFitOpt
 }
 
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s,
-               std::vector<Quad>& out) {
+               std::vector<Quad>& out, std::vector<std::uint8_t>* gave_quad) {
+  if (gave_quad) gave_quad->assign(groups.count(), 0);
   for (std::size_t g = 0; g < groups.count(); ++g) {
     const auto group = groups.group(g);
     auto c = fit_quad(group, img, opt, s);
@@ -338,6 +339,7 @@ void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOpt
     }
     for (const auto& corners : {c, second})
       if (corners) out.push_back(fitted_quad(*corners));
+    if (gave_quad && c) (*gave_quad)[g] = 1;
   }
 }
 

@@ -113,8 +113,9 @@ std::optional<Corners> fit_outline(std::span<const BoundaryPoint> outline, const
 std::optional<Corners> fit_innermost_outline(const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& s);
 
 // Every group's quad appended to `out` (observed_perimeter = the quad's perimeter, segments = -1).
+// With `gave_quad`: resized to the groups' count, 1 where the group gave at least one quad, else 0.
 void fit_quads(const BoundaryGroups& groups, const ImageF& img, const QuadFitOptions& opt, QuadFitScratch& scratch,
-               std::vector<Quad>& out);
+               std::vector<Quad>& out, std::vector<std::uint8_t>* gave_quad = nullptr);
 
 namespace detail {
 // The quad fit's kernel line-fit errors (corner_candidates): for i in [lo, hi), err[i] = (2k + 1) x the

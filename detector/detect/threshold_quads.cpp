@@ -66,7 +66,7 @@ void find_threshold_quads(const ImageF& img, const ThresholdQuadOptions& opt, Th
   st.ms_boundaries = lap_ms(t);
 
   const QuadFitOptions fit = quad_fit_options_for(opt.fit, halve);
-  fit_quads(ws.pass.groups, in, fit, ws.fit, out);
+  fit_quads(ws.pass.groups, in, fit, ws.fit, out, &ws.gave_quad);
   if (opt.low_contrast.enabled && (!halve || opt.low_contrast.at_half_resolution)) {
     auto t_low = Clock::now();
     LowContrastPassOptions low = opt.low_contrast;

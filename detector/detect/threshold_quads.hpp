@@ -82,6 +82,7 @@ struct ThresholdQuadOptions {
 struct ThresholdQuadWorkspace {
   ImageF half, blurred, blur_tmp;
   BoundaryPassScratch pass;  // threshold, components, boundaries of the whole image
+  std::vector<std::uint8_t> gave_quad;  // per group of pass.groups: 1 when its fit gave a quad (fit_quads)
   QuadFitScratch fit;
   EdgeRefineScratch refine;
   LowContrastScratch low_contrast;

@@ -169,6 +169,43 @@ TEST(DarkOutlines, OverlapClustersJoinABorderBrokenInTwo) {
   EXPECT_EQ(s.joined.count(), 1u);
 }
 
+// failed_pairs: the same two pieces, each of which gives no quad alone (fit_quads' gave_quad), joined
+// as a pair by their boxes without the overlap clusters; without the flags (or with every group
+// marked as having given a quad) no pair is joined.
+TEST(DarkOutlines, FailedPairsJoinTwoPiecesThatGaveNoQuad) {
+  const ImageF img = broken_border_image();
+  Pass p(img);
+  const QuadFitOptions fit = DetectorOptions{}.threshold_quads.fit;
+  const EdgeRefineOptions refine = DetectorOptions{}.threshold_quads.refine;
+  QuadFitScratch fs;
+  DarkOutlineScratch s;
+  std::vector<Quad> own;
+  std::vector<std::uint8_t> gave;
+  fit_quads(p.groups, img, fit, fs, own, &gave);
+  ASSERT_EQ(gave.size(), p.groups.count());
+  EXPECT_FALSE(finds_square(own));
+  std::size_t failed = 0;
+  for (std::uint8_t g : gave) failed += g == 0;
+  EXPECT_GE(failed, 2u);
+  const DarkOutlineOptions pairs{.enabled = true, .failed_pairs = true};
+  const auto found = [&](std::span<const std::uint8_t> flags, const DarkOutlineOptions& opt) {
+    return finds_square(dark_outline_quads(p.groups, p.comp, img, {}, fit, refine, opt, fs, s, {}, flags));
+  };
+  EXPECT_TRUE(found(gave, pairs));
+  EXPECT_FALSE(found({}, pairs));
+  EXPECT_FALSE(found(gave, DarkOutlineOptions{.enabled = true}));
+  const std::vector<std::uint8_t> all_gave(gave.size(), 1);
+  EXPECT_FALSE(found(all_gave, pairs));
+  // A pair whose joined box is larger than max_size_px is not joined.
+  EXPECT_FALSE(found(gave, DarkOutlineOptions{.enabled = true, .max_size_px = 20, .failed_pairs = true}));
+  // Each piece is about the square's size (share near 1) with far more than 24 points: the filters
+  // keep the pair; a share above 1 or more points than any group has drop it.
+  EXPECT_TRUE(found(gave, DarkOutlineOptions{.enabled = true, .failed_pairs = true, .pair_min_points = 24,
+                                             .pair_min_share = 0.5}));
+  EXPECT_FALSE(found(gave, DarkOutlineOptions{.enabled = true, .failed_pairs = true, .pair_min_points = 100000}));
+  EXPECT_FALSE(found(gave, DarkOutlineOptions{.enabled = true, .failed_pairs = true, .pair_min_share = 1.01}));
+}
+
 TEST(DarkOutlines, ComponentsOfAnotherImageAreRefused) {
   const ImageF img = broken_ring_image();
   Pass p(img);
