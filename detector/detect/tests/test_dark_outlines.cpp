@@ -150,13 +150,18 @@ ImageF broken_border_image() {
 // overlap_clusters: the two pieces, in no joinable component (each dark piece has one group; the light
 // ground has twelve), are joined by their overlapping boxes, and their outline is the square's; no
 // group alone gives it.
-TEST(DarkOutlines, OverlapClustersJoinABorderBrokenInTwo) {
+// The broken border's threshold pass, with the default profile's fit and refinement options.
+class BrokenBorder : public ::testing::Test {
+ protected:
   const ImageF img = broken_border_image();
-  Pass p(img);
+  Pass p{img};
   const QuadFitOptions fit = DetectorOptions{}.threshold_quads.fit;
   const EdgeRefineOptions refine = DetectorOptions{}.threshold_quads.refine;
   QuadFitScratch fs;
   DarkOutlineScratch s;
+};
+
+TEST_F(BrokenBorder, OverlapClustersJoinABorderBrokenInTwo) {
   const auto found = [&](const DarkOutlineOptions& opt) {
     return finds_square(dark_outline_quads(p.groups, p.comp, img, {}, fit, refine, opt, fs, s));
   };
@@ -172,13 +177,7 @@ TEST(DarkOutlines, OverlapClustersJoinABorderBrokenInTwo) {
 // failed_pairs: the same two pieces, each of which gives no quad alone (fit_quads' gave_quad), joined
 // as a pair by their boxes without the overlap clusters; without the flags (or with every group
 // marked as having given a quad) no pair is joined.
-TEST(DarkOutlines, FailedPairsJoinTwoPiecesThatGaveNoQuad) {
-  const ImageF img = broken_border_image();
-  Pass p(img);
-  const QuadFitOptions fit = DetectorOptions{}.threshold_quads.fit;
-  const EdgeRefineOptions refine = DetectorOptions{}.threshold_quads.refine;
-  QuadFitScratch fs;
-  DarkOutlineScratch s;
+TEST_F(BrokenBorder, FailedPairsJoinTwoPiecesThatGaveNoQuad) {
   std::vector<Quad> own;
   std::vector<std::uint8_t> gave;
   fit_quads(p.groups, img, fit, fs, own, &gave);
