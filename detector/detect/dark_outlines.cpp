@@ -15,6 +15,15 @@ DoubledBox merged(const DoubledBox& a, const DoubledBox& b) {
   return {std::min(a.xmin, b.xmin), std::max(a.xmax, b.xmax), std::min(a.ymin, b.ymin), std::max(a.ymax, b.ymax)};
 }
 double longer_side_px(const DoubledBox& b) { return 0.5 * std::max(b.xmax - b.xmin, b.ymax - b.ymin); }
+
+// Calls fn(a, b) for every a < b of `items` (sorted by their box's xmin) whose boxes, each grown by
+// margin (doubled px, both boxes together), overlap: a sweep along x.
+template <class Fn>
+void for_each_overlapping_pair(const std::vector<DarkOutlineScratch::Member>& items, int margin, Fn&& fn) {
+  for (std::size_t a = 0; a < items.size(); ++a)
+    for (std::size_t b = a + 1; b < items.size() && items[b].box.xmin <= items[a].box.xmax + margin; ++b)
+      if (items[b].box.ymin <= items[a].box.ymax + margin && items[a].box.ymin <= items[b].box.ymax + margin) fn(a, b);
+}
 }  // namespace
 
 std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Components& components, const ImageF& img,
@@ -63,12 +72,10 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
       while (s.cluster[k].parent != k) k = s.cluster[k].parent = s.cluster[s.cluster[k].parent].parent;
       return k;
     };
-    for (std::size_t a = 0; a < s.cluster.size(); ++a)
-      for (std::size_t b = a + 1; b < s.cluster.size() && s.cluster[b].box.xmin <= s.cluster[a].box.xmax; ++b)
-        if (s.cluster[b].box.ymin <= s.cluster[a].box.ymax && s.cluster[a].box.ymin <= s.cluster[b].box.ymax) {
-          const std::uint32_t ra = root(static_cast<std::uint32_t>(a)), rb = root(static_cast<std::uint32_t>(b));
-          if (ra != rb) s.cluster[std::max(ra, rb)].parent = std::min(ra, rb);
-        }
+    for_each_overlapping_pair(s.cluster, 0, [&](std::size_t a, std::size_t b) {
+      const std::uint32_t ra = root(static_cast<std::uint32_t>(a)), rb = root(static_cast<std::uint32_t>(b));
+      if (ra != rb) s.cluster[std::max(ra, rb)].parent = std::min(ra, rb);
+    });
     // Members in order of their root (each cluster's members in sweep order).
     s.members.clear();
     for (std::uint32_t k = 0; k < s.cluster.size(); ++k) s.members.emplace_back(root(k), k);
@@ -111,26 +118,22 @@ std::vector<Quad> dark_outline_quads(const BoundaryGroups& groups, const Compone
   if (opt.failed_pairs && gave_quad.size() == groups.count()) {
     s.failed.clear();
     for (std::size_t g = 0; g < groups.count(); ++g) {
-      if (gave_quad[g]) continue;
+      if (gave_quad[g] || groups.group(g).size() < static_cast<std::size_t>(opt.pair_min_points)) continue;
       const DoubledBox b = bounding_box(groups.group(g));
-      if (groups.group(g).size() >= static_cast<std::size_t>(opt.pair_min_points) && longer_side_px(b) <= opt.max_size_px)
-        s.failed.emplace_back(b, static_cast<std::uint32_t>(g));
+      if (longer_side_px(b) <= opt.max_size_px) s.failed.push_back({b, static_cast<std::uint32_t>(g), 0});
     }
     std::sort(s.failed.begin(), s.failed.end(), [](const auto& a, const auto& b) {
-      return a.first.xmin < b.first.xmin || (a.first.xmin == b.first.xmin && a.second < b.second);
+      return a.box.xmin < b.box.xmin || (a.box.xmin == b.box.xmin && a.group < b.group);
     });
     const int m = static_cast<int>(std::lround(4 * opt.pair_margin_px));  // both boxes grown: doubled px
-    for (std::size_t a = 0; a < s.failed.size(); ++a)
-      for (std::size_t b = a + 1; b < s.failed.size() && s.failed[b].first.xmin <= s.failed[a].first.xmax + m; ++b) {
-        const DoubledBox &ba = s.failed[a].first, &bb = s.failed[b].first;
-        if (bb.ymin > ba.ymax + m || ba.ymin > bb.ymax + m) continue;
-        const DoubledBox u = merged(ba, bb);
-        if (!joinable(2, u)) continue;
-        if (std::min(longer_side_px(ba), longer_side_px(bb)) < opt.pair_min_share * longer_side_px(u)) continue;
-        add_group(s.failed[a].second);
-        add_group(s.failed[b].second);
-        close_joined(true);
-      }
+    for_each_overlapping_pair(s.failed, m, [&](std::size_t a, std::size_t b) {
+      const DoubledBox &ba = s.failed[a].box, &bb = s.failed[b].box, u = merged(ba, bb);
+      if (!joinable(2, u)) return;
+      if (std::min(longer_side_px(ba), longer_side_px(bb)) < opt.pair_min_share * longer_side_px(u)) return;
+      add_group(s.failed[a].group);
+      add_group(s.failed[b].group);
+      close_joined(true);
+    });
   }
   if (s.joined.offsets.size() == 1) s.joined.offsets.clear();
   s.fitted.clear();

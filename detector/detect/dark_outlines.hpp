@@ -86,7 +86,7 @@ struct DarkOutlineScratch {
   std::vector<Member> cluster;                                   // overlap_clusters: one component's groups
   std::vector<std::pair<std::uint32_t, std::uint32_t>> members;  // (cluster root, index into cluster)
   std::vector<bool> from_cluster;                                // per joined group: an overlap cluster's
-  std::vector<std::pair<DoubledBox, std::uint32_t>> failed;      // failed_pairs: (box, group), by xmin
+  std::vector<Member> failed;                                    // failed_pairs: the groups (parent unused)
   BoundaryGroups joined;
   std::vector<Quad> fitted;
   EdgeRefineScratch refine;

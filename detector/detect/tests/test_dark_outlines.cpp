@@ -147,9 +147,6 @@ ImageF broken_border_image() {
   return img;
 }
 
-// overlap_clusters: the two pieces, in no joinable component (each dark piece has one group; the light
-// ground has twelve), are joined by their overlapping boxes, and their outline is the square's; no
-// group alone gives it.
 // The broken border's threshold pass, with the default profile's fit and refinement options.
 class BrokenBorder : public ::testing::Test {
  protected:
@@ -161,6 +158,9 @@ class BrokenBorder : public ::testing::Test {
   DarkOutlineScratch s;
 };
 
+// overlap_clusters: the two pieces, in no joinable component (each dark piece has one group; the light
+// ground has twelve), are joined by their overlapping boxes, and their outline is the square's; no
+// group alone gives it.
 TEST_F(BrokenBorder, OverlapClustersJoinABorderBrokenInTwo) {
   const auto found = [&](const DarkOutlineOptions& opt) {
     return finds_square(dark_outline_quads(p.groups, p.comp, img, {}, fit, refine, opt, fs, s));
