@@ -7,7 +7,7 @@
 // payload reads get marginal, and image conditions such as sensor noise and blur). Every detection
 // carries its decision margin, and the option filters the final detections, so scoring the one run
 // at threshold m gives exactly what a run with min_decision_margin = m gives (tested in
-// detect/tests/test_detector.cpp); every threshold is scored from the same detections.
+// detect/tests/test_detector_inputs.cpp); every threshold is scored from the same detections.
 //
 // True side, per frame: detected at m when the right-id detection the sweep reports has a decision
 // margin >= m. "Parts" of the true side: "distance" (the distance sweep), and each condition of the

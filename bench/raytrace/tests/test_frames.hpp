@@ -1,12 +1,16 @@
 #pragma once
 // Ray-traced frames shared by the raytrace tests: a few plain-scene poses, rendered once into a cache
 // that every test process shares (frames are keyed by content, and concurrent renders of the same
-// frame are safe), so each test renders at most a handful of frames.
+// frame are safe), so each test renders at most a handful of frames. Also the scratch directories the
+// render tests write to, and the corner error they measure found corners by.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <set>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "raytrace/render.hpp"
@@ -29,6 +33,36 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
   const auto d = std::filesystem::path(::testing::TempDir()) / name;
   std::filesystem::create_directories(d);
   return d;
+}
+
+// An empty directory of its own for one test, removed afterwards.
+struct FreshDir {
+  std::filesystem::path path;
+  explicit FreshDir(const std::string& name)
+      : path(scratch_dir("tagbench_raytrace_" + name + "_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~FreshDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  FreshDir(const FreshDir&) = delete;
+  FreshDir& operator=(const FreshDir&) = delete;
+};
+
+// The names of the files in `dir`.
+inline std::set<std::string> files_in(const std::filesystem::path& dir) {
+  std::set<std::string> s;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) s.insert(e.path().filename().string());
+  return s;
+}
+
+// The largest distance between corresponding corners of `a` and `b`, in pixels.
+inline double max_corner_error(const Corners& a, const Corners& b) {
+  double m = 0;
+  for (std::size_t k = 0; k < 4; ++k) m = std::max(m, (a[k] - b[k]).norm());
+  return m;
 }
 
 // The cache the test processes share.
