@@ -1,7 +1,7 @@
 #pragma once
 // Ray-traced frames shared by the raytrace tests: a few plain-scene poses, rendered once into a cache
 // that every test process shares (frames are keyed by content, and concurrent renders of the same
-// frame are safe), so each test renders at most a handful of frames. Also the scratch directories the
+// frame are safe), so each test renders at most a handful of frames. Also the listing of a folder the
 // render tests write to, and the corner error they measure found corners by.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <set>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "raytrace/render.hpp"
@@ -34,22 +33,6 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
   std::filesystem::create_directories(d);
   return d;
 }
-
-// An empty directory of its own for one test, removed afterwards.
-struct FreshDir {
-  std::filesystem::path path;
-  explicit FreshDir(const std::string& name)
-      : path(scratch_dir("tagbench_raytrace_" + name + "_" + std::to_string(::getpid()))) {
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-  }
-  ~FreshDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  FreshDir(const FreshDir&) = delete;
-  FreshDir& operator=(const FreshDir&) = delete;
-};
 
 // The names of the files in `dir`.
 inline std::set<std::string> files_in(const std::filesystem::path& dir) {

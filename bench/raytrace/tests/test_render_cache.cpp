@@ -17,6 +17,7 @@
 
 #include "raytrace/render.hpp"
 #include "tools/atomic_file.hpp"
+#include "scratch_dir.hpp"
 #include "test_frames.hpp"
 
 namespace test_render_cache {
@@ -25,7 +26,6 @@ namespace fs = std::filesystem;
 using namespace tagbench;
 using namespace tagbench::bench;
 using tagbench::bench::test::files_in;
-using tagbench::bench::test::FreshDir;
 using tagbench::bench::test::gentle_options;
 using tagbench::bench::test::plain_frames;
 
@@ -74,8 +74,8 @@ TEST(RaytraceCache, KeyChangesWithEverythingThatChangesThePixels) {
 
 TEST(RaytraceCache, RerunRendersNothingAndLostOrDamagedFramesAreRenderedAgain) {
   REQUIRE_POVRAY();
-  const FreshDir scratch("cache");
-  const fs::path& dir = scratch.path;
+  const tagbench::testing::ScratchDir scratch("tagbench_raytrace_cache");
+  const fs::path& dir = scratch.path();
   const auto [a, b] = two_frames(3, 1.5, 20);
   RenderOptions o = gentle_options(dir);
   o.processes = 2;  // two frames: two povray runs at once, frames 1 and 2 of one animation (+SF/+EF)
@@ -131,8 +131,8 @@ TEST(RaytraceCache, RerunRendersNothingAndLostOrDamagedFramesAreRenderedAgain) {
 // the frames that batch finished (no povray needed for them), drops its half-written image, scene,
 // key list and log, and leaves a live run's batch alone.
 TEST(RaytraceCache, AKilledRunsFinishedFramesAreKeptAndItsOtherFilesRemoved) {
-  const FreshDir scratch("deadbatch");
-  const fs::path& dir = scratch.path;
+  const tagbench::testing::ScratchDir scratch("tagbench_raytrace_deadbatch");
+  const fs::path& dir = scratch.path();
   const auto [a, b] = two_frames(5, 1.7, 10);
   const std::string& plain = scene_template(SceneKind::kPlain);
   const std::string ka = frame_cache_key(a, plain), kb = frame_cache_key(b, plain);

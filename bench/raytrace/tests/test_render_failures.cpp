@@ -16,6 +16,7 @@
 #include "detect/detector.hpp"
 #include "detect/detector_opencv.hpp"
 #include "raytrace/render.hpp"
+#include "scratch_dir.hpp"
 #include "test_frames.hpp"
 
 namespace test_render_failures {
@@ -24,14 +25,13 @@ namespace fs = std::filesystem;
 using namespace tagbench;
 using namespace tagbench::bench;
 using tagbench::bench::test::files_in;
-using tagbench::bench::test::FreshDir;
 using tagbench::bench::test::gentle_options;
 using tagbench::bench::test::max_corner_error;
 using tagbench::bench::test::plain_frames;
 
 TEST(RaytraceRender, BadFramesAndTemplatesAreRefused) {
-  const FreshDir scratch("bad");
-  const fs::path& dir = scratch.path;
+  const tagbench::testing::ScratchDir scratch("tagbench_raytrace_bad");
+  const fs::path& dir = scratch.path();
   RenderOptions o = gentle_options(dir);
   FramePose f = plain_frames()[0];
   const std::string& plain = scene_template(SceneKind::kPlain);
@@ -63,8 +63,8 @@ TEST(RaytraceRender, BadFramesAndTemplatesAreRefused) {
 }
 
 TEST(RaytraceRender, MissingPovrayIsOneLineNamingThePackage) {
-  const FreshDir scratch("nopovray");
-  const fs::path& dir = scratch.path;
+  const tagbench::testing::ScratchDir scratch("tagbench_raytrace_nopovray");
+  const fs::path& dir = scratch.path();
   FramePose f = plain_frames()[0];
   f.pose.t *= 1.2345;  // a frame in no cache
   RenderOptions o = gentle_options(dir);
@@ -86,8 +86,8 @@ TEST(RaytraceRender, MissingPovrayIsOneLineNamingThePackage) {
   }
   fs::remove(not_executable);
   // Through PATH: an empty directory holds no povray.
-  const FreshDir empty_scratch("emptypath");
-  const fs::path& empty = empty_scratch.path;
+  const tagbench::testing::ScratchDir empty_scratch("tagbench_raytrace_emptypath");
+  const fs::path& empty = empty_scratch.path();
   const std::string saved = std::getenv("PATH") ? std::getenv("PATH") : "";
   ::setenv("PATH", empty.c_str(), 1);
   o.povray = "povray";
@@ -106,8 +106,8 @@ TEST(RaytraceRender, MissingPovrayIsOneLineNamingThePackage) {
 // Ten frames also take POV-Ray's two-digit frame numbers in the output names.
 TEST(RaytraceRender, AFrameThatFailsIsReportedAndTheOthersGoOn) {
   REQUIRE_POVRAY();
-  const FreshDir scratch("failing");
-  const fs::path& dir = scratch.path;
+  const tagbench::testing::ScratchDir scratch("tagbench_raytrace_failing");
+  const fs::path& dir = scratch.path();
   std::vector<FramePose> frames(10, plain_frames()[0]);
   frames[0].extra_sdl = "#error \"deliberately broken frame\"";
   for (std::size_t i = 1; i < frames.size(); ++i) frames[i].pose.t *= 1.0 + 0.03 * static_cast<double>(i);
@@ -135,8 +135,8 @@ TEST(RaytraceRender, AFrameThatFailsIsReportedAndTheOthersGoOn) {
 
 TEST(RaytraceRender, ABrokenTemplateStopsAfterThreeIdenticalFailures) {
   REQUIRE_POVRAY();
-  const FreshDir scratch("broken");
-  const fs::path& dir = scratch.path;
+  const tagbench::testing::ScratchDir scratch("tagbench_raytrace_broken");
+  const fs::path& dir = scratch.path();
   std::vector<FramePose> frames(6, plain_frames()[0]);
   for (std::size_t i = 0; i < frames.size(); ++i) frames[i].pose.t *= 1.0 + 0.01 * static_cast<double>(i);
   const std::string broken = scene_template(SceneKind::kPlain) + "\nsphere { <0, 0, 0> undefined_thing }\n";
