@@ -31,23 +31,9 @@ import os
 import shutil
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from plot_common import MIN_DETECTED_FOR_ERRORS, detectors_in, number, plt, save, style
 
 STEMS = {"angle": "fig9_angle", "distance": "fig10_distance", "conditions": "conditions"}
-STYLE = {  # detector: (label, colour, line style)
-    "tagbench": ("ours (default profile), full resolution", "tab:purple", "-"),
-    "tagbench-half": ("ours (default profile), half resolution", "tab:pink", "--"),
-    "tagbench-thorough": ("ours (thorough profile: full-resolution line quads)", "tab:brown", "-."),
-    "tagbench-paper": ("ours (paper profile), full resolution", "tab:blue", "-"),
-    "tagbench-paper-half": ("ours (paper profile), half resolution", "tab:cyan", "--"),
-    "libapriltag-d1": ("libapriltag 3.3, decimate 1", "tab:orange", "-"),
-    "libapriltag-d2": ("libapriltag 3.3, decimate 2", "tab:red", "--"),
-    "aruco": ("OpenCV 4.6 aruco (APRILTAG refine)", "tab:green", "-"),
-}
-MIN_DETECTED_FOR_ERRORS = 3
 DEFAULT_EXTERNAL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "reference",
                                 "external_runs")
 # experiment: (file, setting, label, colour) per curve; the step column of each experiment.
@@ -82,10 +68,6 @@ CONDITION_LABELS = {
 }
 
 
-def number(s):
-    return float(s) if s not in ("", None) else math.nan
-
-
 def load(results, experiment):
     stem = STEMS[experiment]
     with open(os.path.join(results, stem + "_summary.csv"), newline="") as f:
@@ -101,18 +83,6 @@ def series(rows, detector, condition=None):
     """Rows of one detector (and condition), sorted by step."""
     sel = [r for r in rows if r["detector"] == detector and (condition is None or r["condition"] == condition)]
     return sorted(sel, key=lambda r: float(r["step"]))
-
-
-def detectors_in(rows):
-    seen = []
-    for r in rows:
-        if r["detector"] not in seen:
-            seen.append(r["detector"])
-    return seen
-
-
-def style(detector):
-    return STYLE.get(detector, (detector, None, "-"))
 
 
 def plot_error(ax, sel, column, detector):
@@ -354,13 +324,6 @@ def families_figure(results, rows36):
         json.dump(doc, f, indent=2)
         f.write("\n")
     os.replace(path + ".tmp.json", path)
-
-
-def save(fig, out):
-    tmp = out + ".tmp.png"
-    fig.savefig(tmp, dpi=100)
-    plt.close(fig)
-    os.replace(tmp, out)
 
 
 def write_sidecar(results, experiment, meta, legend, used):

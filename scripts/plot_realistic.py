@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot_raytrace import STYLE, save  # noqa: E402
+from plot_common import STYLE, save  # noqa: E402
 
 
 def main():

@@ -4,7 +4,7 @@ from sixdof_summary.csv and sixdof.json: sixdof.png, a grid whose rows are the o
 with its Wilson 95 % interval shaded, median corner RMS, median orientation error, median distance
 error; medians over the frames detected in the bin, drawn where at least 3 were) and whose columns are
 the six pose variables (distance, phi, tilt axis, roll, image x, image y), each binned over its range as
-the summary bins it; one colour per detector (plot_raytrace.py's styles), so one sees which variable
+the summary bins it; one colour per detector (plot_common.py's styles), so one sees which variable
 breaks which detector. A sidecar, sixdof_plot.json, names the inputs and the legend.
 
 Usage: plot_sixdof.py RESULTS_DIR. The PNG and the sidecar are written to temporaries and renamed."""
@@ -13,7 +13,7 @@ import json
 import os
 import sys
 
-from plot_raytrace import MIN_DETECTED_FOR_ERRORS, detectors_in, number, plt, save, style
+from plot_common import MIN_DETECTED_FOR_ERRORS, detectors_in, number, plt, save, style
 
 POSE = [  # column, x label
     ("distance_m", "distance (m)"),
