@@ -28,6 +28,22 @@ cv::Mat line_kernel(double length, double angle_deg) {
 
 }  // namespace
 
+cv::Mat disk_kernel(double radius) {
+  const int r = static_cast<int>(std::ceil(radius + 0.5)), n = 2 * r + 1, ss = 8;
+  cv::Mat k(n, n, CV_32F, cv::Scalar(0));
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      int inside = 0;  // of the pixel's ss x ss samples
+      for (int sy = 0; sy < ss; ++sy)
+        for (int sx = 0; sx < ss; ++sx) {
+          const double px = x - r - 0.5 + (sx + 0.5) / ss, py = y - r - 0.5 + (sy + 0.5) / ss;
+          inside += px * px + py * py <= radius * radius;
+        }
+      k.at<float>(y, x) = static_cast<float>(inside);
+    }
+  return k / cv::sum(k)[0];
+}
+
 cv::Mat apply_camera(const cv::Mat& linear, const RealisticSettings& st, Draws& dr, CameraDegradation& d,
                      std::vector<std::uint8_t>& jpeg) {
   cv::Mat v = linear.clone();
@@ -39,7 +55,10 @@ cv::Mat apply_camera(const cv::Mat& linear, const RealisticSettings& st, Draws& 
   }
   // Optics: defocus, then the camera's (or the hand's) motion during the exposure.
   d.blur_sigma_px = dr.uniform(st.blur_sigma_px);
-  if (d.blur_sigma_px > 0) cv::GaussianBlur(v, v, cv::Size(0, 0), d.blur_sigma_px, d.blur_sigma_px, cv::BORDER_REFLECT);
+  if (d.blur_sigma_px > 0 && st.disk_defocus)
+    cv::filter2D(v, v, -1, disk_kernel(2 * d.blur_sigma_px), cv::Point(-1, -1), 0, cv::BORDER_REFLECT);
+  else if (d.blur_sigma_px > 0)
+    cv::GaussianBlur(v, v, cv::Size(0, 0), d.blur_sigma_px, d.blur_sigma_px, cv::BORDER_REFLECT);
   d.motion_blur_px = dr.uniform(st.motion_blur_px);
   d.motion_angle_deg = dr.uniform(0, 180);
   if (d.motion_blur_px > 0.05)

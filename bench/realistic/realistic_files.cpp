@@ -84,8 +84,9 @@ std::string realistic_sidecar_json(const RealisticResult& r, const std::vector<R
        "], \"black_square_px\": " + range_json(s.black_square_px) + ", \"max_tilt_deg\": " +
        json_number(s.max_tilt_deg) + ", \"tag_size_m\": " + json_number(s.tag_size_m) + ", \"supersample\": " +
        std::to_string(s.supersample) + ",\n    \"degrade\": " + (s.degrade ? "true" : "false") +
-       ", \"blur_sigma_px\": " + range_json(s.blur_sigma_px) + ", \"motion_blur_px\": " +
-       range_json(s.motion_blur_px) + ", \"full_well_e\": " + range_json(s.full_well_e) + ", \"read_noise_e\": " +
+       ", \"blur_sigma_px\": " + range_json(s.blur_sigma_px) +
+       (s.disk_defocus ? ", \"disk_defocus\": true" : "") +  // only when on: the set's files as before
+       ", \"motion_blur_px\": " + range_json(s.motion_blur_px) + ", \"full_well_e\": " + range_json(s.full_well_e) + ", \"read_noise_e\": " +
        range_json(s.read_noise_e) + ", \"jpeg_quality\": " + range_json(s.jpeg_quality) + ", \"gamma\": " +
        json_number(s.gamma) + ",\n    \"exposure\": " + range_json(s.exposure) + ", \"ink_reflectance\": " +
        range_json(s.ink_reflectance) + ", \"paper_reflectance\": " + range_json(s.paper_reflectance) +

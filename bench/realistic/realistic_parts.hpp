@@ -39,6 +39,10 @@ cv::Mat make_ground(int width, int height, int ss, Draws& draws);
 // `unevenness` and, with probability `shadow_probability`, a hard-edged shadow (light x 0.35..0.6).
 cv::Mat make_light(int width, int height, double unevenness, double shadow_probability, Draws& draws, bool& shadow);
 
+// A uniform disk PSF of `radius` pixels (> 0), each pixel's weight its area inside the disk (8 x 8
+// samples), summing to 1: a lens's defocus (RealisticSettings::disk_defocus).
+cv::Mat disk_kernel(double radius);
+
 // The camera: linear image (CV_32F, 1 = saturation) -> 8-bit gray. With settings.degrade: defocus,
 // motion blur, shot and read noise, gamma, quantization, JPEG (jpeg receives the encoded bytes and
 // the returned image is their decoding); without: quantization only. Records what it did in `d`.

@@ -233,7 +233,8 @@ std::string frame_truth_json(const RealisticSettings& st, const RealisticFrame& 
                   ", \"cx\": " + json_number(f.camera.cx) + ", \"cy\": " + json_number(f.camera.cy) +
                   ", \"pixels\": \"centres at integer coordinates\"}" +
                   ",\n \"degradation\": {\"degraded\": " + (st.degrade ? "true" : "false") +
-                  ", \"blur_sigma_px\": " + json_number(d.blur_sigma_px) + ", \"motion_blur_px\": " +
+                  ", \"blur_sigma_px\": " + json_number(d.blur_sigma_px) +
+                  (st.degrade && st.disk_defocus ? ", \"defocus\": \"disk\"" : "") + ", \"motion_blur_px\": " +
                   json_number(d.motion_blur_px) + ", \"motion_angle_deg\": " + json_number(d.motion_angle_deg) +
                   ", \"full_well_e\": " + json_number(d.full_well_e) + ", \"read_noise_e\": " +
                   json_number(d.read_noise_e) + ", \"gamma\": " + json_number(d.gamma) + ", \"sharpen_amount\": " + json_number(d.sharpen_amount) + ", \"jpeg_quality\": " +

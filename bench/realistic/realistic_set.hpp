@@ -45,6 +45,9 @@ struct RealisticSettings {
   // applied (no blur, noise, gamma or JPEG): an ideal frame, for checking the geometry.
   bool degrade = true;
   Range blur_sigma_px{0.3, 1.4};   // defocus: Gaussian PSF sigma, pixels, per frame
+  // A lens's defocus instead: a uniform disk of radius 2 x the drawn sigma (the same second moment),
+  // with its sharper edges and wider reach (bench/experiments/photo_conditions.cpp; the set: off).
+  bool disk_defocus = false;
   Range motion_blur_px{0, 1.5};    // motion blur: length of a line PSF, pixels (0 = none), per frame
   Range full_well_e{800, 4000};    // electrons at the exposure's white: shot noise, per frame
   Range read_noise_e{3, 12};       // read noise sigma, electrons, per frame

@@ -11,6 +11,7 @@
 #include "detect/detector_opencv.hpp"
 #include "detect/explain_loss.hpp"
 #include "raytrace/comparators.hpp"
+#include "realistic/realistic_parts.hpp"
 #include "realistic/realistic_set.hpp"
 #include "clean_camera.hpp"
 
@@ -123,6 +124,47 @@ TEST(RealisticSet, DefocusSmoothsThePicture) {
     return cv::norm(gx, cv::NORM_L2SQR);
   };
   EXPECT_LT(energy(blurred.image), 0.6 * energy(sharp.image));
+}
+
+TEST(RealisticSet, DiskKernelIsTheDiskAreaWeighted) {
+  const cv::Mat k = realistic_parts::disk_kernel(2.0);
+  ASSERT_EQ(k.rows, 7);
+  ASSERT_EQ(k.cols, 7);
+  EXPECT_NEAR(cv::sum(k)[0], 1.0, 1e-6);
+  const float centre = k.at<float>(3, 3);
+  EXPECT_FLOAT_EQ(k.at<float>(3, 4), centre);  // wholly inside: full weight
+  EXPECT_FLOAT_EQ(k.at<float>(0, 0), 0.0f);    // wholly outside
+  EXPECT_GT(k.at<float>(3, 5), 0.0f);          // the rim: part of the pixel inside
+  EXPECT_LT(k.at<float>(3, 5), centre);
+  EXPECT_FLOAT_EQ(k.at<float>(1, 3), k.at<float>(3, 1));  // symmetric
+  // Second moment along x: R^2 / 4 = 1 for a uniform disk; taken at the pixels' centres, which put
+  // the rim's partial pixels a little outward, 1.13 here.
+  double m2 = 0;
+  for (int y = 0; y < k.rows; ++y)
+    for (int x = 0; x < k.cols; ++x) m2 += k.at<float>(y, x) * (x - 3) * (x - 3);
+  EXPECT_GT(m2, 1.0);
+  EXPECT_LT(m2, 1.2);
+}
+
+TEST(RealisticSet, DiskDefocusIsALensesBlurOfTheSameSigma) {
+  RealisticSettings s = clean_camera();
+  const RealisticFrame sharp = make_realistic_frame(s, 0);
+  s.blur_sigma_px = {1.5, 1.5};
+  const RealisticFrame gauss = make_realistic_frame(s, 0);
+  s.disk_defocus = true;
+  const RealisticFrame disk = make_realistic_frame(s, 0);
+  EXPECT_TRUE(same_pixels(disk.image, make_realistic_frame(s, 0).image));  // reproducible
+  EXPECT_FALSE(same_pixels(disk.image, gauss.image));
+  ASSERT_EQ(disk.tags.size(), gauss.tags.size());  // the same scene and truth
+  for (std::size_t i = 0; i < disk.tags.size(); ++i) EXPECT_EQ(disk.tags[i].corners, gauss.tags[i].corners);
+  const auto energy = [](const cv::Mat& m) {
+    cv::Mat gx;
+    cv::Sobel(m, gx, CV_32F, 1, 0);
+    return cv::norm(gx, cv::NORM_L2SQR);
+  };
+  EXPECT_LT(energy(disk.image), 0.6 * energy(sharp.image));
+  EXPECT_NE(frame_truth_json(s, disk).find("\"defocus\": \"disk\""), std::string::npos);
+  EXPECT_EQ(frame_truth_json(clean_camera(), sharp).find("defocus"), std::string::npos);
 }
 
 TEST(RealisticSet, SharpeningSteepensEdges) {
