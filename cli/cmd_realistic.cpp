@@ -24,7 +24,7 @@ namespace tagbench::cli {
 namespace {
 
 constexpr const char* kRealisticHelp = R"(usage: tagbench realistic [--frames N] [--seed S] [--family F] [--detectors LIST] [--out DIR]
-           [--export-frames DIR] [--ceiling] [--ideal] [--camera-gamma G]
+           [--export-frames DIR] [--ceiling] [--ideal] [--camera-gamma G] [--defocus gaussian|disk]
            [--sizes|--blur|--motion-blur|--jpeg-quality|--full-well|--ink|--face-light|--sharpen LO,HI]
 
 The realistic image set (issue 17): frames made to behave like JPEG photographs of small tags, and
@@ -69,6 +69,9 @@ Ranges (LO,HI; a value per frame or tag is drawn uniformly in it; defaults are t
   --sharpen LO,HI     the camera's unsharp-mask amount (sigma 1 px) before JPEG (default 0,0)
   --camera-gamma G    the camera's encoding gamma, in [1, 4] (default 2.2, as photographs; 1: a linear
                       machine-vision camera); our detectors are told it (DetectorOptions::input_gamma)
+  --defocus SHAPE     the defocus PSF: gaussian (default; sigma from --blur) or disk, a lens's uniform
+                      disk of radius 2 sigma (the same second moment; its edges spread evenly and
+                      farther); recorded in realistic.json and the frames' JSON only when disk
 
 Writes into DIR:
   realistic.csv          a row per tag and detector: the frame's camera values, the tag (id, black
@@ -134,7 +137,8 @@ void prepare_export_folder(const std::filesystem::path& dir) {
 int cmd_realistic(const Words& w) {
   if (wants_help(w, kRealisticHelp)) return 0;
   const Args a(w, {{"frames"}, {"seed"}, {"family"}, {"detectors"}, {"out"}, {"export-frames"}, {"ceiling", false}, {"ideal", false},
-                   {"sizes"}, {"blur"}, {"motion-blur"}, {"jpeg-quality"}, {"full-well"}, {"ink"}, {"face-light"}, {"sharpen"}, {"camera-gamma"}});
+                   {"sizes"}, {"blur"}, {"motion-blur"}, {"jpeg-quality"}, {"full-well"}, {"ink"}, {"face-light"}, {"sharpen"}, {"camera-gamma"},
+                   {"defocus"}});
   if (!a.positionals().empty()) throw UsageError("unexpected argument '" + a.positionals()[0] + "'");
   bench::RealisticRunSettings s;
   s.frames = static_cast<int>(a.get_int("frames", 50, 1, 1000000));
@@ -158,6 +162,11 @@ int cmd_realistic(const Words& w) {
   range("face-light", s.set.face_light);
   range("sharpen", s.set.sharpen_amount);
   if (a.has("camera-gamma")) s.set.gamma = parse_double("--camera-gamma", *a.get("camera-gamma"), 1, 4);
+  if (a.has("defocus")) {
+    const std::string& shape = *a.get("defocus");
+    if (shape != "gaussian" && shape != "disk") throw UsageError("--defocus: want gaussian or disk (got '" + shape + "')");
+    s.set.disk_defocus = shape == "disk";
+  }
   try {
     s = bench::resolve_run_settings(s);
   } catch (const std::invalid_argument& e) {

@@ -108,11 +108,30 @@ TEST(CliRealistic, OurDetectorsAreToldTheCamerasGamma) {
   EXPECT_NE(told, encoded);
 }
 
+// --defocus disk: a lens's disk instead of the Gaussian, said in the sidecar and every frame's JSON
+// (and nowhere when gaussian, the set's files as before), and other pixels than the Gaussian's.
+TEST(CliRealistic, DiskDefocusIsRecordedAndChangesTheFrames) {
+  const fs::path disk = scratch() / "disk", gauss = scratch() / "gauss", ex = scratch() / "disk-frames",
+                 exg = scratch() / "gauss-frames";
+  const Result r = run("--frames 1 --seed 2 --blur 1.5,1.5 --defocus disk --detectors tagbench --out " + disk.string() +
+                       " --export-frames " + ex.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Result g = run("--frames 1 --seed 2 --blur 1.5,1.5 --defocus gaussian --detectors tagbench --out " + gauss.string() +
+                       " --export-frames " + exg.string());
+  ASSERT_EQ(g.code, 0) << g.err;
+  EXPECT_NE(slurp(disk / "realistic.json").find("\"disk_defocus\": true"), std::string::npos);
+  EXPECT_EQ(slurp(gauss / "realistic.json").find("disk_defocus"), std::string::npos);
+  EXPECT_NE(slurp(ex / "frame-00000.json").find("\"defocus\": \"disk\""), std::string::npos);
+  EXPECT_EQ(slurp(exg / "frame-00000.json").find("defocus"), std::string::npos);
+  EXPECT_NE(slurp(ex / "frame-00000.jpg"), slurp(exg / "frame-00000.jpg"));  // other pixels
+}
+
 TEST(CliRealistic, BadOptionsAreOneLineAndWriteNothing) {
   const fs::path out = scratch() / "never";
   for (const std::string bad : {"--frames 0", "--frames x", "--family 99h99", "--detectors tagbench-paper,nope",
                                 "--detectors aruco,aruco", "--detectors ,", "--bogus 1", "extra",
-                                "--camera-gamma 0.5", "--camera-gamma 5", "--camera-gamma srgb"}) {
+                                "--camera-gamma 0.5", "--camera-gamma 5", "--camera-gamma srgb", "--defocus box",
+                                "--defocus"}) {
     const Result r = run(bad + " --out " + out.string());
     EXPECT_EQ(r.code, 2) << bad;
     EXPECT_EQ(lines(r.err).size(), 1u) << bad << ": " << r.err;
