@@ -163,7 +163,7 @@ int cmd_realistic(const Words& w) {
   range("sharpen", s.set.sharpen_amount);
   if (a.has("camera-gamma")) s.set.gamma = parse_double("--camera-gamma", *a.get("camera-gamma"), 1, 4);
   if (a.has("defocus")) {
-    const std::string& shape = *a.get("defocus");
+    const std::string shape = *a.get("defocus");  // a copy: get() returns by value
     if (shape != "gaussian" && shape != "disk") throw UsageError("--defocus: want gaussian or disk (got '" + shape + "')");
     s.set.disk_defocus = shape == "disk";
   }
