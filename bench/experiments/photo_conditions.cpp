@@ -19,12 +19,12 @@
 //   photo_conditions [--frames N] [--seed S] [--conditions LIST] [--out FILE.csv]
 //
 // Ours (the default profile, told the camera's gamma as the set's runner tells it) and libapriltag
-// at decimate 1 run on every frame; a tag is detected as the set scores it: a detection of its id
-// whose corners lie within an RMS of max(2 px, 0.2 x its black square) of the truth. Prints a
+// at decimate 1 run on every frame; a tag is detected as the set scores it (match_tags,
+// realistic_run.hpp: a detection of its id whose corners lie within an RMS of max(2 px, 0.2 x its
+// black square) of the truth). Prints a
 // table per condition (tags and rate per size bin) and, with --out, writes the rows (a header, the
 // settings in the last column) through a temporary file.
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -99,12 +99,6 @@ cv::Mat as_delivered(const Condition& c, RealisticFrame& f) {
   return cv::imdecode(jpeg, cv::IMREAD_GRAYSCALE);
 }
 
-double corner_rms(const Corners& a, const Corners& b) {
-  double s = 0;
-  for (std::size_t i = 0; i < 4; ++i) s += (a[i] - b[i]).squaredNorm();
-  return std::sqrt(s / 4);
-}
-
 struct Tally {
   std::uint64_t tags = 0, detected = 0;
 };
@@ -157,21 +151,12 @@ int main(int argc, char** argv) try {
       RealisticFrame f = make_realistic_frame(s, i);
       const cv::Mat img = as_delivered(c, f);
       for (std::size_t d = 0; d < dets.size(); ++d) {
-        const DetectorOutput o = dets[d]->run(img);
-        std::vector<bool> used(o.found.size(), false);
-        for (const RealisticTag& t : f.tags) {
-          auto& tally = bins[size_bin_of(t.black_square_px).name];
+        const std::vector<TagMatch> matches = match_tags(f.tags, dets[d]->run(img).found);
+        for (std::size_t t = 0; t < f.tags.size(); ++t) {
+          auto& tally = bins[size_bin_of(f.tags[t].black_square_px).name];
           tally.resize(dets.size());
           ++tally[d].tags;
-          const double tol = std::max(2.0, 0.2 * t.black_square_px);
-          int best = -1;
-          double best_err = tol;
-          for (std::size_t k = 0; k < o.found.size(); ++k) {
-            if (used[k] || o.found[k].id != t.id) continue;
-            const double e = corner_rms(o.found[k].corners, t.corners);
-            if (e <= best_err) best = static_cast<int>(k), best_err = e;
-          }
-          if (best >= 0) used[static_cast<std::size_t>(best)] = true, ++tally[d].detected;
+          if (matches[t].found >= 0) ++tally[d].detected;
         }
       }
       if (isatty(2)) std::fprintf(stderr, "\r%s: frame %d of %d", c.name.c_str(), i + 1, frames);

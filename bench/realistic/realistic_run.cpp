@@ -59,6 +59,24 @@ const SizeBin& size_bin_of(double px) {
   return px < b[1].lo ? b.front() : b.back();
 }
 
+std::vector<TagMatch> match_tags(std::span<const RealisticTag> tags, std::span<const Found> found) {
+  std::vector<TagMatch> m(tags.size());
+  std::vector<bool> used(found.size(), false);
+  for (std::size_t t = 0; t < tags.size(); ++t) {
+    const RealisticTag& tag = tags[t];
+    int best = -1;
+    double best_err = std::max(2.0, 0.2 * tag.black_square_px);
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      const Found& x = found[k];
+      if (used[k] || x.id != tag.id || canonical_family_name(x.family) != canonical_family_name(tag.family)) continue;
+      const double e = corner_rms(x.corners, tag.corners);
+      if (e <= best_err) best = static_cast<int>(k), best_err = e;
+    }
+    if (best >= 0) used[static_cast<std::size_t>(best)] = true, m[t] = {best, best_err};
+  }
+  return m;
+}
+
 RealisticRunSettings resolve_run_settings(const RealisticRunSettings& in) {
   RealisticRunSettings s = in;
   check_settings(s.set);
@@ -112,25 +130,16 @@ RealisticResult run_realistic(const RealisticRunSettings& settings, const std::f
     const std::size_t frame_first = r.scores.size();  // then detector-major: frame_first + d * tags + t
     for (std::size_t d = 0; d < dets.size(); ++d) {
       const DetectorOutput out = dets[d]->run(f.image);
+      const std::vector<TagMatch> matches = match_tags(f.tags, out.found);
       std::vector<bool> used(out.found.size(), false);
       const std::size_t first = r.scores.size();
       for (std::size_t t = 0; t < f.tags.size(); ++t) {
-        const RealisticTag& tag = f.tags[t];
         TagScore sc{fi, t, s.detectors[d], false, false, kNaN, kNaN, out.ms, std::nullopt};
-        const double tol = std::max(2.0, 0.2 * tag.black_square_px);
-        int best = -1;
-        double best_err = tol;
-        for (std::size_t k = 0; k < out.found.size(); ++k) {
-          const Found& x = out.found[k];
-          if (used[k] || x.id != tag.id || canonical_family_name(x.family) != canonical_family_name(tag.family)) continue;
-          const double e = corner_rms(x.corners, tag.corners);
-          if (e <= best_err) best = static_cast<int>(k), best_err = e;
-        }
-        if (best >= 0) {
-          used[static_cast<std::size_t>(best)] = true;
+        if (const int k = matches[t].found; k >= 0) {
+          used[static_cast<std::size_t>(k)] = true;
           sc.detected = true;
-          sc.corner_rms_px = best_err;
-          sc.decision_margin = out.found[static_cast<std::size_t>(best)].decision_margin;
+          sc.corner_rms_px = matches[t].corner_rms_px;
+          sc.decision_margin = out.found[static_cast<std::size_t>(k)].decision_margin;
         }
         r.scores.push_back(sc);
       }

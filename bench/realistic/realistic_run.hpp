@@ -10,10 +10,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "raytrace/comparators.hpp"
 #include "raytrace/loss_columns.hpp"
 #include "realistic/realistic_set.hpp"
 
@@ -70,6 +73,15 @@ struct RealisticResult {
   std::vector<bool> can_explain;     // per settings.detectors (Comparator::can_explain)
   double generate_seconds = 0, detect_seconds = 0;
 };
+
+// The set's scoring of one detector's output on one frame: for each tag, in order, the detection that
+// detects it (the tag's family and id, corners within an RMS of max(2 px, 0.2 x its black square); the
+// nearest such, each detection taken by one tag at most), as an index into `found`, or -1.
+struct TagMatch {
+  int found = -1;
+  double corner_rms_px = std::numeric_limits<double>::quiet_NaN();  // of that detection; NaN when none
+};
+std::vector<TagMatch> match_tags(std::span<const RealisticTag> tags, std::span<const Found> found);
 
 // Throws std::invalid_argument (one line) for bad settings or an unknown or repeated detector.
 RealisticRunSettings resolve_run_settings(const RealisticRunSettings& settings);

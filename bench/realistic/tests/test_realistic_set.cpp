@@ -35,6 +35,13 @@ bool same_pixels(const cv::Mat& a, const cv::Mat& b) {
 
 using testing::clean_camera;
 
+// The squared horizontal gradient summed over the picture: less when it is blurred.
+double energy(const cv::Mat& m) {
+  cv::Mat gx;
+  cv::Sobel(m, gx, CV_32F, 1, 0);
+  return cv::norm(gx, cv::NORM_L2SQR);
+}
+
 TEST(RealisticSet, SameSeedAndIndexGiveTheSameBytes) {
   RealisticSettings s;
   s.seed = 7;
@@ -118,11 +125,6 @@ TEST(RealisticSet, DefocusSmoothsThePicture) {
   s.blur_sigma_px = {1.5, 1.5};
   const RealisticFrame blurred = make_realistic_frame(s, 0);
   EXPECT_DOUBLE_EQ(blurred.degradation.blur_sigma_px, 1.5);
-  const auto energy = [](const cv::Mat& m) {
-    cv::Mat gx;
-    cv::Sobel(m, gx, CV_32F, 1, 0);
-    return cv::norm(gx, cv::NORM_L2SQR);
-  };
   EXPECT_LT(energy(blurred.image), 0.6 * energy(sharp.image));
 }
 
@@ -157,11 +159,6 @@ TEST(RealisticSet, DiskDefocusIsALensesBlurOfTheSameSigma) {
   EXPECT_FALSE(same_pixels(disk.image, gauss.image));
   ASSERT_EQ(disk.tags.size(), gauss.tags.size());  // the same scene and truth
   for (std::size_t i = 0; i < disk.tags.size(); ++i) EXPECT_EQ(disk.tags[i].corners, gauss.tags[i].corners);
-  const auto energy = [](const cv::Mat& m) {
-    cv::Mat gx;
-    cv::Sobel(m, gx, CV_32F, 1, 0);
-    return cv::norm(gx, cv::NORM_L2SQR);
-  };
   EXPECT_LT(energy(disk.image), 0.6 * energy(sharp.image));
   EXPECT_NE(frame_truth_json(s, disk).find("\"defocus\": \"disk\""), std::string::npos);
   EXPECT_EQ(frame_truth_json(clean_camera(), sharp).find("defocus"), std::string::npos);
