@@ -102,6 +102,19 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "posechoice_gentle_blur") o.pose_choice.gentle_model_blur_px = x;
     else if (k == "bent") o.bent.enabled = x != 0;
     else if (k == "cref") o.code_refit.enabled = x != 0;
+    else if (k == "dfr") o.defocus_read.enabled = x != 0;
+    else if (k == "dfr_bits") o.defocus_read.max_hypothesis_bits = static_cast<int>(x);
+    else if (k == "dfr_cost") o.defocus_read.max_hypothesis_cost = x;
+    else if (k == "dfr_spare") o.defocus_read.spare_bits = static_cast<int>(x);
+    else if (k == "dfr_m") o.defocus_read.samples_per_cell = static_cast<int>(x);
+    else if (k == "dfr_reg") o.defocus_read.regularization = x;
+    else if (k == "dfr_shift") o.defocus_read.max_corner_shift_px = x;
+    else if (k == "dfr_min") o.defocus_read.min_side_px = x;
+    else if (k == "dfr_max") o.defocus_read.max_side_px = x;
+    else if (k == "dfr_rmax") {  // radii 0 and 0.6 .. x in steps of 0.1
+      o.defocus_read.radii_cells = {0};
+      for (int i = 6; i <= static_cast<int>(std::lround(10 * x)); ++i) o.defocus_read.radii_cells.push_back(0.1 * i);
+    }
     else if (k == "cref_bits") o.code_refit.max_bits = static_cast<int>(x);
     else if (k == "cref_weak") o.code_refit.max_weak_distance = x;
     else if (k == "cref_spare") o.code_refit.spare_bits = static_cast<int>(x);

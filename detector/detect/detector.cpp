@@ -114,6 +114,7 @@ Detector::Detector(DetectorOptions options) : opt_(std::move(options)), find_qua
   opt_.occlusion.gamma = opt_.input_gamma;
   opt_.photometric.gamma = opt_.input_gamma;
   if (opt_.quad_finder == QuadFinderKind::kThreshold) find_quads_ = &find_threshold_quads_in_image;
+  if (opt_.defocus_read.enabled) defocus_models_ = DefocusModels(families_, opt_.defocus_read);
 }
 
 void Detector::check_size(long long width, long long height) const {
@@ -173,7 +174,9 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   const bool printed_square = opt_.printed_square.enabled && opt_.quad_finder == QuadFinderKind::kThreshold;
   std::vector<QuadOutcome>* outcomes =
       trace ? &trace->quad_outcomes
-            : (opt_.bent.enabled || second_look || printed_square || opt_.code_refit.enabled) ? &own_outcomes : nullptr;
+            : (opt_.bent.enabled || second_look || printed_square || opt_.code_refit.enabled || opt_.defocus_read.enabled)
+                ? &own_outcomes
+                : nullptr;
   const std::size_t first_outcome = outcomes ? outcomes->size() : 0;
   std::vector<Detection> decoded = decode_quads(*found.decode_image, found.quads, families_, opt_.max_hamming,
                                                 opt_.payload,
@@ -189,10 +192,11 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   }
   // Every quad decoded so far, parallel to outcomes[first_outcome...] (for the code refit).
   std::vector<Quad> all_quads;
-  if (opt_.code_refit.enabled) all_quads.assign(found.quads.begin(), found.quads.end());
+  const bool keep_quads = opt_.code_refit.enabled || opt_.defocus_read.enabled;
+  if (keep_quads) all_quads.assign(found.quads.begin(), found.quads.end());
   // Quads found after the first decoding (the second look, the group look), decoded and traced alike.
   const auto decode_more = [&](const std::vector<Quad>& quads) {
-    if (opt_.code_refit.enabled) all_quads.insert(all_quads.end(), quads.begin(), quads.end());
+    if (keep_quads) all_quads.insert(all_quads.end(), quads.begin(), quads.end());
     auto more = decode_quads(*found.decode_image, quads, families_, opt_.max_hamming, opt_.payload,
                              opt_.payload_reader == PayloadReaderKind::kArea ? &opt_.payload_area : nullptr,
                              trace ? &trace->readings : nullptr, outcomes, opt_.hamming_by_family, &opt_.soft_decode);
@@ -325,6 +329,11 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                         opt_.max_hamming, opt_.hamming_by_family, area, opt_.code_refit,
                                         &workspace.impl().photometric);
     decoded.insert(decoded.end(), std::make_move_iterator(refit.begin()), std::make_move_iterator(refit.end()));
+  }
+  if (opt_.defocus_read.enabled) {  // defocus_read.hpp: the quads still undecoded, read through a lens's blur
+    auto more = read_defocused_quads(gray, defocus_models_, all_quads, std::span(*outcomes).subspan(first_outcome),
+                                     decoded, families_, opt_.max_hamming, opt_.hamming_by_family, opt_.defocus_read);
+    decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   if (opt_.suppress_overlaps) out = suppress_overlaps(std::move(out));

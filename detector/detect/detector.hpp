@@ -187,6 +187,7 @@ class Detector {
 
   DetectorOptions opt_;
   std::vector<TagFamily> families_;
+  DefocusModels defocus_models_;  // defocus_read.hpp: built once when opt_.defocus_read.enabled
   QuadFinder find_quads_;  // stages 1-5 of this detector's profile
 };
 

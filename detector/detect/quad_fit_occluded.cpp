@@ -11,19 +11,19 @@
 namespace tagbench {
 namespace {
 
-struct Moments {
+struct RunMoments {
   double x = 0, y = 0, xx = 0, xy = 0, yy = 0, n = 0;
   void add(double px, double py) { x += px, y += py, xx += px * px, xy += px * py, yy += py * py, n += 1; }
-  void add(const Moments& o) { x += o.x, y += o.y, xx += o.xx, xy += o.xy, yy += o.yy, n += o.n; }
+  void add(const RunMoments& o) { x += o.x, y += o.y, xx += o.xx, xy += o.xy, yy += o.yy, n += o.n; }
 };
 
 struct RunLine {
   double cx = 0, cy = 0, nx = 0, ny = 0, mse = 0;  // centroid, unit normal, mean squared distance
-  Moments m;
+  RunMoments m;
   int count = 0;
 };
 
-RunLine fit(const Moments& m) {
+RunLine fit(const RunMoments& m) {
   RunLine l;
   l.m = m;
   l.count = static_cast<int>(m.n);
@@ -139,7 +139,7 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
 
   // 2. Runs merged into lines (longest run first). A run's end points are its corners, left out.
   struct Run {
-    Moments m;
+    RunMoments m;
     int first, last;  // unwrapped indices, inclusive
   };
   std::vector<Run> runs;
@@ -164,7 +164,7 @@ std::optional<Corners> fit_quad_occluded(std::span<const BoundaryPoint> group, c
       RunLine& lg = lines[g];
       // A short run's direction is noise (a pixel staircase): only the joint fit decides.
       if (lr.count >= 10 && std::abs(lg.nx * lr.nx + lg.ny * lr.ny) < cos_merge) continue;
-      Moments m = lg.m;
+      RunMoments m = lg.m;
       m.add(runs[r].m);
       const RunLine both = fit(m);
       if (both.mse > opt.max_line_mse || std::abs(distance(both, lr.cx, lr.cy)) > opt.merge_distance_px) continue;

@@ -1,0 +1,269 @@
+#include "detect/defocus_read.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <Eigen/Dense>
+
+#include "detect/decode_quads.hpp"
+#include "detect/detector.hpp"
+#include "detect/homography.hpp"
+#include "detect/payload_decode.hpp"
+
+namespace tagbench {
+
+std::vector<double> detail::disk_cell_fractions(double x, double y, double rho, int g) {
+  std::vector<double> w(static_cast<std::size_t>(g) * static_cast<std::size_t>(g), 0.0);
+  const auto add = [&](double px, double py, double weight) {
+    const int c = std::clamp(static_cast<int>(std::floor(px)), 0, g - 1);
+    const int r = std::clamp(static_cast<int>(std::floor(py)), 0, g - 1);
+    w[static_cast<std::size_t>(r * g + c)] += weight;
+  };
+  if (!(rho > 0)) {
+    add(x, y, 1);
+    return w;
+  }
+  // Midpoint integration over the disk's bounding square: fine enough for fractions to 1e-3.
+  constexpr int kSteps = 48;
+  double total = 0;
+  for (int a = 0; a < kSteps; ++a)
+    for (int b = 0; b < kSteps; ++b) {
+      const double dx = rho * (2.0 * (a + 0.5) / kSteps - 1), dy = rho * (2.0 * (b + 0.5) / kSteps - 1);
+      if (dx * dx + dy * dy > rho * rho) continue;
+      add(x + dx, y + dy, 1);
+      total += 1;
+    }
+  for (double& v : w) v /= total;
+  return w;
+}
+
+namespace {
+
+// The padded grid: g = d + 6 cells a side (one assumed-white cell, the white ring, the black border,
+// the payload); the black square's n = d + 2 cells start at grid index 2.
+int grid_size(int d) { return d + 6; }
+
+// Kernel rows for the black square's cells at m x m samples each (row-major over the (n m)^2
+// samples), and the linear system's solution matrix: unknowns a, b, b p_i.
+void build(int d, double rho, int m, double regularization, Eigen::MatrixXd& kernel, Eigen::MatrixXd& solve) {
+  const int g = grid_size(d), n = d + 2, side = n * m, samples = side * side, unknowns = 2 + d * d;
+  kernel.resize(samples, g * g);
+  for (int jr = 0; jr < side; ++jr)
+    for (int jc = 0; jc < side; ++jc) {
+      const auto w = detail::disk_cell_fractions(2 + (jc + 0.5) / m, 2 + (jr + 0.5) / m, rho, g);
+      for (int k = 0; k < g * g; ++k) kernel(jr * side + jc, k) = w[static_cast<std::size_t>(k)];
+    }
+  // Rows: one per sample, then one regularisation row per payload cell (scaled by m, so that its
+  // weight against the cell's m^2 sample rows does not change with m).
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(samples + d * d, unknowns);
+  for (int j = 0; j < samples; ++j) {
+    A(j, 0) = 1;
+    for (int r = 0; r < g; ++r)
+      for (int c = 0; c < g; ++c) {
+        const double k = kernel(j, r * g + c);
+        if (r < 2 || r > d + 3 || c < 2 || c > d + 3) A(j, 1) += k;                          // white
+        else if (r >= 3 && r <= d + 2 && c >= 3 && c <= d + 2) A(j, 2 + (r - 3) * d + (c - 3)) = k;  // payload
+      }
+  }
+  for (int i = 0; i < d * d; ++i) {
+    A(samples + i, 2 + i) = regularization * m;
+    A(samples + i, 1) = -0.5 * regularization * m;
+  }
+  solve = (A.transpose() * A).ldlt().solve(A.transpose()).leftCols(samples);
+}
+
+// The black square's cells sampled at m x m points each through the quad (corners clockwise on
+// screen; corner 0 at the tag square's (-1, -1)); false when a sample falls outside the image.
+bool sample_square(const ImageF& img, const Corners& q, int n, int m, Eigen::VectorXd& y) {
+  const auto H = tag_homography(q);
+  if (!H) return false;
+  const int side = n * m;
+  y.resize(side * side);
+  const double step = 2.0 / side;
+  for (int jr = 0; jr < side; ++jr)
+    for (int jc = 0; jc < side; ++jc) {
+      const auto v = sample_bilinear(img, apply_homography(*H, Eigen::Vector2d(-1 + step * (jc + 0.5), -1 + step * (jr + 0.5))));
+      if (!v) return false;
+      y(jr * side + jc) = *v;
+    }
+  return true;
+}
+
+// The payload solved from the samples: its bits (MSB = the first cell, row-major, 1 = white) and
+// the decision margin (the weakest cell's distance from b / 2, over b / 2, clamped to [0, 1]);
+// nullopt without contrast.
+struct Solved {
+  Code bits = 0;
+  double margin = 0;
+};
+std::optional<Solved> solve_payload(const Eigen::MatrixXd& solve, const Eigen::VectorXd& y, int d) {
+  const Eigen::VectorXd x = solve * y;
+  const double b = x(1);
+  if (!(b > 0.02)) return std::nullopt;  // under 5 grey levels of contrast: nothing to read
+  Solved s;
+  s.margin = 1;
+  for (int i = 0; i < d * d; ++i) {
+    const double v = x(2 + i) / b - 0.5;
+    s.bits = (s.bits << 1) | (v > 0 ? 1u : 0u);
+    s.margin = std::min(s.margin, std::min(1.0, 2 * std::abs(v)));
+  }
+  return s;
+}
+
+// The model's pattern for a code read in the quad's frame: white outside the black square, black
+// border, the code's payload.
+Eigen::VectorXd pattern(Code word, int d) {
+  const int g = grid_size(d);
+  Eigen::VectorXd p = Eigen::VectorXd::Ones(g * g);
+  for (int r = 2; r <= d + 3; ++r)
+    for (int c = 2; c <= d + 3; ++c) p(r * g + c) = 0;
+  for (int i = 0; i < d * d; ++i)
+    if ((word >> (d * d - 1 - i)) & 1u) p((3 + i / d) * g + 3 + i % d) = 1;
+  return p;
+}
+
+// Mean squared residual per cell over b^2 once a and b are fitted (least squares) to y ~ a + b e;
+// +inf without positive contrast.
+double model_cost(const Eigen::VectorXd& y, const Eigen::VectorXd& e, int cells) {
+  const double n = static_cast<double>(y.size());
+  const double se = e.sum(), sy = y.sum(), see = e.squaredNorm(), sey = e.dot(y);
+  const double den = n * see - se * se;
+  if (!(den > 1e-12)) return HUGE_VAL;
+  const double b = (n * sey - se * sy) / den, a = (sy - b * se) / n;
+  if (!(b > 0.02)) return HUGE_VAL;
+  return (y.array() - a - b * e.array()).square().sum() / (b * b) * cells / n;
+}
+
+// One family's hypothesis, placement and test for one quad; the detection if it holds.
+std::optional<Detection> try_family(const ImageF& gray, const Quad& quad, const TagFamily& family,
+                                    const DefocusModels::Width& w, int m, int corrected,
+                                    const DefocusReadOptions& opt) {
+  const int d = family.payload_width(), n = d + 2, cells = n * n;
+  Eigen::VectorXd y;
+  if (!sample_square(gray, quad.corners, n, 1, y)) return std::nullopt;
+  // 1. Hypothesis.
+  NearestWord best;
+  std::size_t best_radius = 0;
+  for (std::size_t k = 0; k < w.radii.size(); ++k) {
+    const auto s = solve_payload(w.radii[k].solve, y, d);
+    if (!s) continue;
+    const NearestWord nw = family.nearest_word(s->bits, opt.max_hypothesis_bits);
+    if (nw.index >= 0 && nw.distance < best.distance) best = nw, best_radius = k;
+  }
+  if (best.index < 0) return std::nullopt;
+  const Code word = family.rotated_words()[static_cast<std::size_t>(best.index)];
+  const Eigen::VectorXd p = pattern(word, d);
+  if (!(model_cost(y, w.radii[best_radius].kernel * p, cells) <= opt.max_hypothesis_cost)) return std::nullopt;
+  // 2. Placement: coordinate descent over the 8 corner coordinates and the radius.
+  Corners q = quad.corners;
+  std::size_t k = best_radius;
+  Eigen::VectorXd e = w.radii[k].fine_kernel * p, yf;
+  if (!sample_square(gray, q, n, m, yf)) return std::nullopt;
+  double cost = model_cost(yf, e, cells);
+  Eigen::VectorXd trial;
+  for (double step = opt.initial_step_px; step >= opt.final_step_px; step *= 0.5) {
+    for (bool improved = true; improved;) {
+      improved = false;
+      for (int ci = 0; ci < 8; ++ci)
+        for (const int sign : {1, -1}) {
+          Corners t = q;
+          t[static_cast<std::size_t>(ci / 2)][ci % 2] += sign * step;
+          if ((t[static_cast<std::size_t>(ci / 2)] - quad.corners[static_cast<std::size_t>(ci / 2)]).norm() >
+              opt.max_corner_shift_px)
+            continue;
+          if (!sample_square(gray, t, n, m, trial)) continue;
+          const double c = model_cost(trial, e, cells);
+          if (c < cost - 1e-9) cost = c, q = t, yf = trial, improved = true;
+        }
+      for (const int dk : {-1, 1}) {
+        const long k2 = static_cast<long>(k) + dk;
+        if (k2 < 0 || k2 >= static_cast<long>(w.radii.size())) continue;
+        Eigen::VectorXd e2 = w.radii[static_cast<std::size_t>(k2)].fine_kernel * p;
+        const double c = model_cost(yf, e2, cells);
+        if (c < cost - 1e-9) cost = c, k = static_cast<std::size_t>(k2), e = std::move(e2), improved = true;
+      }
+    }
+  }
+  // The placement must keep a convex quad of the same winding (a corner may not cross a side).
+  if (!(twice_signed_area(q) * twice_signed_area(quad.corners) > 0)) return std::nullopt;
+  // 3. Test.
+  const auto s = solve_payload(w.radii[k].fine_solve, yf, d);
+  if (!s) return std::nullopt;
+  const auto dec = family.decode(s->bits, corrected - opt.spare_bits);
+  if (!dec || 4 * dec->id + dec->rotation != best.index) return std::nullopt;
+  const Corners printed = printed_corners(q, dec->rotation);
+  const auto H = tag_homography(printed);
+  if (!H) return std::nullopt;
+  Detection det;
+  det.family = family.name();
+  det.id = dec->id;
+  det.hamming = dec->hamming;
+  det.rotation = dec->rotation;
+  det.decision_margin = s->margin;
+  det.corners = printed;
+  det.homography = *H;
+  det.center = apply_homography(*H, Eigen::Vector2d::Zero());
+  det.observed_perimeter = quad.observed_perimeter;
+  return det;
+}
+
+}  // namespace
+
+DefocusModels::DefocusModels(std::span<const TagFamily> families, const DefocusReadOptions& opt)
+    : m_(std::max(1, opt.samples_per_cell)) {
+  for (const TagFamily& f : families) {
+    const int d = f.payload_width();
+    if (width(d)) continue;
+    Width w;
+    w.d = d;
+    for (const double rho : opt.radii_cells) {
+      Radius r;
+      r.rho = rho;
+      build(d, rho, 1, opt.regularization, r.kernel, r.solve);
+      build(d, rho, m_, opt.regularization, r.fine_kernel, r.fine_solve);
+      w.radii.push_back(std::move(r));
+    }
+    widths_.push_back(std::move(w));
+  }
+}
+
+const DefocusModels::Width* DefocusModels::width(int d) const {
+  for (const Width& w : widths_)
+    if (w.d == d) return &w;
+  return nullptr;
+}
+
+std::vector<Detection> read_defocused_quads(const ImageF& gray, const DefocusModels& models,
+                                            std::span<const Quad> quads, std::span<QuadOutcome> outcomes,
+                                            std::span<const Detection> decoded, std::span<const TagFamily> families,
+                                            int max_hamming, bool hamming_by_family, const DefocusReadOptions& opt) {
+  std::vector<Detection> found;
+  if (!opt.enabled || outcomes.size() != quads.size() || gray.empty()) return found;
+  for (std::size_t qi = 0; qi < quads.size(); ++qi) {
+    QuadOutcome& outcome = outcomes[qi];
+    if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
+    const auto [shortest, longest] = side_length_range(quads[qi].corners);
+    if (!(shortest >= opt.min_side_px) || !(longest <= opt.max_side_px)) continue;
+    const auto& c = quads[qi].corners;
+    const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+    const auto inside = [&](const Detection& d) { return inside_quad(d.corners, centre); };
+    if (std::any_of(decoded.begin(), decoded.end(), inside) || std::any_of(found.begin(), found.end(), inside))
+      continue;
+    std::optional<Detection> best;
+    for (const TagFamily& f : families) {
+      if (f.min_hamming() < opt.min_family_hamming) continue;
+      const DefocusModels::Width* w = models.width(f.payload_width());
+      if (!w || w->radii.empty()) continue;
+      const int corrected = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
+      auto d = try_family(gray, quads[qi], f, *w, models.samples_per_cell(), corrected, opt);
+      if (d && (!best || d->hamming < best->hamming)) best = std::move(d);  // the earlier family on ties
+    }
+    if (!best) continue;
+    mark_decoded(outcome, *best);
+    found.push_back(std::move(*best));
+  }
+  return found;
+}
+
+}  // namespace tagbench
