@@ -63,31 +63,15 @@ std::vector<Detection> refit_to_nearest_codes(const ImageF& gray, const ImageF& 
                                               std::span<const TagFamily> families, int max_hamming,
                                               bool hamming_by_family, const PayloadAreaOptions& area,
                                               const CodeRefitOptions& opt, PhotometricWorkspace* workspace) {
-  std::vector<Detection> found;
-  if (!opt.enabled || outcomes.size() != quads.size()) return found;
-  for (std::size_t qi = 0; qi < quads.size(); ++qi) {
-    QuadOutcome& outcome = outcomes[qi];
-    if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
-    const auto [shortest, longest] = side_length_range(quads[qi].corners);
-    if (!(shortest >= opt.min_side_px) || !(longest <= opt.max_side_px)) continue;
-    const auto& c = quads[qi].corners;
-    const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
-    if (std::any_of(decoded.begin(), decoded.end(), [&](const Detection& d) { return inside_quad(d.corners, centre); }))
-      continue;
-    std::optional<Detection> best;
-    for (const TagFamily& f : families) {
-      if (f.min_hamming() < opt.min_family_hamming) continue;
-      const auto& reading = outcome.bits[static_cast<std::size_t>(f.payload_width())];
-      if (!reading) continue;
-      const int corrected = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
-      auto d = try_family(gray, decode_image, quads[qi], *reading, f, corrected, area, opt, workspace);
-      if (d && (!best || d->hamming < best->hamming)) best = std::move(d);  // the earlier family on ties
-    }
-    if (!best) continue;
-    mark_decoded(outcome, *best);
-    found.push_back(std::move(*best));
-  }
-  return found;
+  if (!opt.enabled) return {};
+  return retry_undecoded_quads(
+      quads, outcomes, decoded, families, opt.min_side_px, opt.max_side_px, opt.min_family_hamming, false,
+      [&](std::size_t qi, const TagFamily& f) -> std::optional<Detection> {
+        const auto& reading = outcomes[qi].bits[static_cast<std::size_t>(f.payload_width())];
+        if (!reading) return std::nullopt;
+        const int corrected = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
+        return try_family(gray, decode_image, quads[qi], *reading, f, corrected, area, opt, workspace);
+      });
 }
 
 }  // namespace tagbench

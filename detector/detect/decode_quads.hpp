@@ -13,6 +13,7 @@
 // A detection's corners are the quad's corners re-ordered so that corners[0] is the printed
 // top-left (quad corner `rotation`), its homography maps the tag square [-1,1]^2 in printed axes
 // to the image, and its centre is the homography's image of (0, 0). Detections come in quad order.
+#include <algorithm>
 #include <optional>
 #include <span>
 #include <vector>
@@ -50,6 +51,44 @@ bool soft_decode_readings(std::span<const TagFamily> families,
 // Records in `outcome` that its quad became the detection `d` (kDecoded, family, id, hamming, margin):
 // decode_quads and the later second chances (bent_decode.hpp, code_refit.hpp) alike.
 void mark_decoded(QuadOutcome& outcome, const Detection& d);
+
+// The loop of the later second chances for quads read but not decoded (code_refit.hpp,
+// defocus_read.hpp): every quad whose outcome is kNotDecoded, whose sides lie within [min_side_px,
+// max_side_px] and whose centre lies inside no detection of `decoded` (nor, with skip_found, inside
+// one this call found already) is offered to try_family(quad index, family) for every family of
+// minimum distance at least min_family_hamming; of what they return, the fewest bits corrected wins
+// (the earlier family on ties) and the quad's outcome is marked decoded. `quads` and `outcomes` are
+// parallel; a size mismatch finds nothing. The new detections, in quad order.
+template <class TryFamily>
+std::vector<Detection> retry_undecoded_quads(std::span<const Quad> quads, std::span<QuadOutcome> outcomes,
+                                             std::span<const Detection> decoded, std::span<const TagFamily> families,
+                                             double min_side_px, double max_side_px, int min_family_hamming,
+                                             bool skip_found, TryFamily&& try_family) {
+  std::vector<Detection> found;
+  if (outcomes.size() != quads.size()) return found;
+  for (std::size_t qi = 0; qi < quads.size(); ++qi) {
+    QuadOutcome& outcome = outcomes[qi];
+    if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
+    const auto [shortest, longest] = side_length_range(quads[qi].corners);
+    if (!(shortest >= min_side_px) || !(longest <= max_side_px)) continue;
+    const auto& c = quads[qi].corners;
+    const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+    const auto inside = [&](const Detection& d) { return inside_quad(d.corners, centre); };
+    if (std::any_of(decoded.begin(), decoded.end(), inside) ||
+        (skip_found && std::any_of(found.begin(), found.end(), inside)))
+      continue;
+    std::optional<Detection> best;
+    for (const TagFamily& f : families) {
+      if (f.min_hamming() < min_family_hamming) continue;
+      std::optional<Detection> d = try_family(qi, f);
+      if (d && (!best || d->hamming < best->hamming)) best = std::move(d);
+    }
+    if (!best) continue;
+    mark_decoded(outcome, *best);
+    found.push_back(std::move(*best));
+  }
+  return found;
+}
 
 // `soft`, if given and enabled, decodes soft the quads no family decoded hard (soft_decode_readings).
 std::vector<Detection> decode_quads(const ImageF& decode_image, std::span<const Quad> quads,

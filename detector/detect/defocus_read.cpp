@@ -48,11 +48,27 @@ int grid_size(int d) { return d + 6; }
 // samples), and the linear system's solution matrix: unknowns a, b, b p_i.
 void build(int d, double rho, int m, double regularization, Eigen::MatrixXd& kernel, Eigen::MatrixXd& solve) {
   const int g = grid_size(d), n = d + 2, side = n * m, samples = side * side, unknowns = 2 + d * d;
-  kernel.resize(samples, g * g);
+  // A sample's fractions depend only on where in its cell it lies (m x m places): each is integrated
+  // once over a window of cells round it that holds the whole disk, then placed for every cell (the
+  // grid's edge cells taking what falls past them, as disk_cell_fractions does).
+  const int reach = static_cast<int>(std::ceil(rho)) + 1, window = 2 * reach + 1;
+  std::vector<std::vector<double>> at_place(static_cast<std::size_t>(m * m));
+  for (int sr = 0; sr < m; ++sr)
+    for (int sc = 0; sc < m; ++sc)
+      at_place[static_cast<std::size_t>(sr * m + sc)] =
+          detail::disk_cell_fractions(reach + (sc + 0.5) / m, reach + (sr + 0.5) / m, rho, window);
+  kernel = Eigen::MatrixXd::Zero(samples, g * g);
   for (int jr = 0; jr < side; ++jr)
     for (int jc = 0; jc < side; ++jc) {
-      const auto w = detail::disk_cell_fractions(2 + (jc + 0.5) / m, 2 + (jr + 0.5) / m, rho, g);
-      for (int k = 0; k < g * g; ++k) kernel(jr * side + jc, k) = w[static_cast<std::size_t>(k)];
+      const std::vector<double>& w = at_place[static_cast<std::size_t>((jr % m) * m + jc % m)];
+      const int r0 = 2 + jr / m - reach, c0 = 2 + jc / m - reach;  // the window's first cell in the grid
+      for (int wr = 0; wr < window; ++wr)
+        for (int wc = 0; wc < window; ++wc) {
+          const double v = w[static_cast<std::size_t>(wr * window + wc)];
+          if (v == 0) continue;
+          const int r = std::clamp(r0 + wr, 0, g - 1), c = std::clamp(c0 + wc, 0, g - 1);
+          kernel(jr * side + jc, r * g + c) += v;
+        }
     }
   // Rows: one per sample, then one regularisation row per payload cell (scaled by m, so that its
   // weight against the cell's m^2 sample rows does not change with m).
@@ -81,11 +97,12 @@ bool sample_square(const ImageF& img, const Corners& q, int n, int m, Eigen::Vec
   const int side = n * m;
   y.resize(side * side);
   const double step = 2.0 / side;
+  if (img.empty()) return false;
   for (int jr = 0; jr < side; ++jr)
     for (int jc = 0; jc < side; ++jc) {
-      const auto v = sample_bilinear(img, apply_homography(*H, Eigen::Vector2d(-1 + step * (jc + 0.5), -1 + step * (jr + 0.5))));
-      if (!v) return false;
-      y(jr * side + jc) = *v;
+      const Eigen::Vector2d p = apply_homography(*H, Eigen::Vector2d(-1 + step * (jc + 0.5), -1 + step * (jr + 0.5)));
+      if (!(p.x() >= 0) || !(p.y() >= 0) || p.x() > img.width - 1 || p.y() > img.height - 1) return false;
+      y(jr * side + jc) = sample_bilinear_inside(img, p);  // sample_bilinear's value, its test made above
     }
   return true;
 }
@@ -143,12 +160,16 @@ std::optional<Detection> try_family(const ImageF& gray, const Quad& quad, const 
   Eigen::VectorXd y;
   if (!sample_square(gray, quad.corners, n, 1, y)) return std::nullopt;
   // 1. Hypothesis.
+  // The first radius whose reading is nearest a code (fewest bits). A later radius must come strictly
+  // nearer, so each search is bounded by the best so far, and a reading seen already is not searched.
   NearestWord best;
   std::size_t best_radius = 0;
-  for (std::size_t k = 0; k < w.radii.size(); ++k) {
+  std::vector<Code> seen;
+  for (std::size_t k = 0; k < w.radii.size() && best.distance > 0; ++k) {
     const auto s = solve_payload(w.radii[k].solve, y, d);
-    if (!s) continue;
-    const NearestWord nw = family.nearest_word(s->bits, opt.max_hypothesis_bits);
+    if (!s || std::find(seen.begin(), seen.end(), s->bits) != seen.end()) continue;
+    seen.push_back(s->bits);
+    const NearestWord nw = family.nearest_word(s->bits, std::min(opt.max_hypothesis_bits, best.distance - 1));
     if (nw.index >= 0 && nw.distance < best.distance) best = nw, best_radius = k;
   }
   if (best.index < 0) return std::nullopt;
@@ -238,32 +259,15 @@ std::vector<Detection> read_defocused_quads(const ImageF& gray, const DefocusMod
                                             std::span<const Quad> quads, std::span<QuadOutcome> outcomes,
                                             std::span<const Detection> decoded, std::span<const TagFamily> families,
                                             int max_hamming, bool hamming_by_family, const DefocusReadOptions& opt) {
-  std::vector<Detection> found;
-  if (!opt.enabled || outcomes.size() != quads.size() || gray.empty()) return found;
-  for (std::size_t qi = 0; qi < quads.size(); ++qi) {
-    QuadOutcome& outcome = outcomes[qi];
-    if (outcome.fate != QuadOutcome::Fate::kNotDecoded) continue;
-    const auto [shortest, longest] = side_length_range(quads[qi].corners);
-    if (!(shortest >= opt.min_side_px) || !(longest <= opt.max_side_px)) continue;
-    const auto& c = quads[qi].corners;
-    const Eigen::Vector2d centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
-    const auto inside = [&](const Detection& d) { return inside_quad(d.corners, centre); };
-    if (std::any_of(decoded.begin(), decoded.end(), inside) || std::any_of(found.begin(), found.end(), inside))
-      continue;
-    std::optional<Detection> best;
-    for (const TagFamily& f : families) {
-      if (f.min_hamming() < opt.min_family_hamming) continue;
-      const DefocusModels::Width* w = models.width(f.payload_width());
-      if (!w || w->radii.empty()) continue;
-      const int corrected = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
-      auto d = try_family(gray, quads[qi], f, *w, models.samples_per_cell(), corrected, opt);
-      if (d && (!best || d->hamming < best->hamming)) best = std::move(d);  // the earlier family on ties
-    }
-    if (!best) continue;
-    mark_decoded(outcome, *best);
-    found.push_back(std::move(*best));
-  }
-  return found;
+  if (!opt.enabled || gray.empty()) return {};
+  return retry_undecoded_quads(
+      quads, outcomes, decoded, families, opt.min_side_px, opt.max_side_px, opt.min_family_hamming, true,
+      [&](std::size_t qi, const TagFamily& f) -> std::optional<Detection> {
+        const DefocusModels::Width* w = models.width(f.payload_width());
+        if (!w || w->radii.empty()) return std::nullopt;
+        const int corrected = bits_corrected_for(f.min_hamming(), max_hamming, hamming_by_family);
+        return try_family(gray, quads[qi], f, *w, models.samples_per_cell(), corrected, opt);
+      });
 }
 
 }  // namespace tagbench

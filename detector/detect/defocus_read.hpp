@@ -70,7 +70,8 @@ struct DefocusReadOptions {
 };
 
 // The fixed matrices of the model for one payload width d, per radius (see above). Built once per
-// detector (Detector's constructor); immutable, so shared by every thread.
+// detector (Detector's constructor: about 3.5 MB for 36h11 and eight radii, some 10 ms here, most of
+// it the first touch of that memory); immutable, so shared by every thread.
 class DefocusModels {
  public:
   DefocusModels() = default;
