@@ -10,6 +10,7 @@
 #include "detect/detector.hpp"
 #include "detect/homography.hpp"
 #include "detect/payload_decode.hpp"
+#include "detect/photometric_refine.hpp"  // move_detection_to
 
 namespace tagbench {
 
@@ -97,7 +98,6 @@ bool sample_square(const ImageF& img, const Corners& q, int n, int m, Eigen::Vec
   const int side = n * m;
   y.resize(side * side);
   const double step = 2.0 / side;
-  if (img.empty()) return false;
   for (int jr = 0; jr < side; ++jr)
     for (int jc = 0; jc < side; ++jc) {
       const Eigen::Vector2d p = apply_homography(*H, Eigen::Vector2d(-1 + step * (jc + 0.5), -1 + step * (jr + 0.5)));
@@ -213,19 +213,14 @@ std::optional<Detection> try_family(const ImageF& gray, const Quad& quad, const 
   if (!s) return std::nullopt;
   const auto dec = family.decode(s->bits, corrected - opt.spare_bits);
   if (!dec || 4 * dec->id + dec->rotation != best.index) return std::nullopt;
-  const Corners printed = printed_corners(q, dec->rotation);
-  const auto H = tag_homography(printed);
-  if (!H) return std::nullopt;
   Detection det;
   det.family = family.name();
   det.id = dec->id;
   det.hamming = dec->hamming;
   det.rotation = dec->rotation;
   det.decision_margin = s->margin;
-  det.corners = printed;
-  det.homography = *H;
-  det.center = apply_homography(*H, Eigen::Vector2d::Zero());
   det.observed_perimeter = quad.observed_perimeter;
+  if (!move_detection_to(det, printed_corners(q, dec->rotation))) return std::nullopt;
   return det;
 }
 
@@ -235,7 +230,7 @@ DefocusModels::DefocusModels(std::span<const TagFamily> families, const DefocusR
     : m_(std::max(1, opt.samples_per_cell)) {
   for (const TagFamily& f : families) {
     const int d = f.payload_width();
-    if (width(d)) continue;
+    if (f.min_hamming() < opt.min_family_hamming || width(d)) continue;  // never tried, or built already
     Width w;
     w.d = d;
     for (const double rho : opt.radii_cells) {

@@ -75,7 +75,8 @@ struct DefocusReadOptions {
 class DefocusModels {
  public:
   DefocusModels() = default;
-  // For every distinct payload width among `families` and every radius of `opt`.
+  // For every distinct payload width among those of `families` the reading tries (min_family_hamming)
+  // and every radius of `opt`.
   DefocusModels(std::span<const TagFamily> families, const DefocusReadOptions& opt);
 
   struct Radius {

@@ -55,6 +55,26 @@ void validate_occluded_fit(const OccludedQuadFitOptions& o) {
   within("threshold_quads.fit.occluded.min_three_side_coverage", o.min_three_side_coverage, 0, 1);
 }
 
+void validate_defocus_read(const DefocusReadOptions& f) {
+  for (std::size_t i = 0; i < f.radii_cells.size(); ++i) {
+    finite_at_least("defocus_read.radii_cells", f.radii_cells[i], 0);
+    if (i > 0 && !(f.radii_cells[i] > f.radii_cells[i - 1]))
+      fail("defocus_read.radii_cells", f.radii_cells[i], "must be ascending");
+  }
+  finite_at_least("defocus_read.regularization", f.regularization, 0);
+  int_within("defocus_read.max_hypothesis_bits", f.max_hypothesis_bits, 0, 64);
+  finite_at_least("defocus_read.max_hypothesis_cost", f.max_hypothesis_cost, 0);
+  int_within("defocus_read.spare_bits", f.spare_bits, 0, 64);
+  int_within("defocus_read.samples_per_cell", f.samples_per_cell, 1, 8);
+  finite_above("defocus_read.final_step_px", f.final_step_px, 0);
+  if (!(std::isfinite(f.initial_step_px) && f.initial_step_px >= f.final_step_px))
+    fail("defocus_read.initial_step_px", f.initial_step_px, "must be finite and >= defocus_read.final_step_px");
+  finite_at_least("defocus_read.max_corner_shift_px", f.max_corner_shift_px, 0);
+  if (f.min_family_hamming < 0) fail("defocus_read.min_family_hamming", static_cast<long long>(f.min_family_hamming), "must be >= 0");
+  finite_at_least("defocus_read.min_side_px", f.min_side_px, 0);
+  if (!(f.max_side_px >= f.min_side_px)) fail("defocus_read.max_side_px", f.max_side_px, "must be >= defocus_read.min_side_px");
+}
+
 void validate_threshold_quads(const ThresholdQuadOptions& q) {
   finite_at_least("threshold_quads.blur_sigma", q.blur_sigma, 0);
   finite_above("threshold_quads.noise_blur.min_noise_grey", q.noise_blur.min_noise_grey, 0);
@@ -276,26 +296,7 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("code_refit.max_weak_distance", code_refit.max_weak_distance, 0);
   if (code_refit.min_family_hamming < 0) fail("code_refit.min_family_hamming", static_cast<long long>(code_refit.min_family_hamming), "must be >= 0");
   finite_at_least("code_refit.min_side_px", code_refit.min_side_px, 0);
-  {
-    const DefocusReadOptions& f = defocus_read;
-    for (std::size_t i = 0; i < f.radii_cells.size(); ++i) {
-      finite_at_least("defocus_read.radii_cells", f.radii_cells[i], 0);
-      if (i > 0 && !(f.radii_cells[i] > f.radii_cells[i - 1]))
-        fail("defocus_read.radii_cells", f.radii_cells[i], "must be ascending");
-    }
-    finite_at_least("defocus_read.regularization", f.regularization, 0);
-    int_within("defocus_read.max_hypothesis_bits", f.max_hypothesis_bits, 0, 64);
-    finite_at_least("defocus_read.max_hypothesis_cost", f.max_hypothesis_cost, 0);
-    int_within("defocus_read.spare_bits", f.spare_bits, 0, 64);
-    int_within("defocus_read.samples_per_cell", f.samples_per_cell, 1, 8);
-    finite_above("defocus_read.final_step_px", f.final_step_px, 0);
-    if (!(std::isfinite(f.initial_step_px) && f.initial_step_px >= f.final_step_px))
-      fail("defocus_read.initial_step_px", f.initial_step_px, "must be finite and >= defocus_read.final_step_px");
-    finite_at_least("defocus_read.max_corner_shift_px", f.max_corner_shift_px, 0);
-    if (f.min_family_hamming < 0) fail("defocus_read.min_family_hamming", static_cast<long long>(f.min_family_hamming), "must be >= 0");
-    finite_at_least("defocus_read.min_side_px", f.min_side_px, 0);
-    if (!(f.max_side_px >= f.min_side_px)) fail("defocus_read.max_side_px", f.max_side_px, "must be >= defocus_read.min_side_px");
-  }
+  validate_defocus_read(defocus_read);
   if (!(code_refit.max_side_px >= code_refit.min_side_px)) fail("code_refit.max_side_px", code_refit.max_side_px, "must be >= code_refit.min_side_px");
   validate_occlusion_refit(occlusion);
   finite_above("second_look.max_size_px", second_look.max_size_px, 0);
