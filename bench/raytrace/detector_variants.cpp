@@ -30,6 +30,20 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
       o.payload_reader = v == "point" ? PayloadReaderKind::kPoint : PayloadReaderKind::kArea;
       continue;
     }
+    if (k == "dfr_radii") {  // the defocus reading's radii in cells, colon-separated: 0:0.7:0.9:1.1
+      o.defocus_read.radii_cells.clear();
+      for (std::size_t a = 0; a <= v.size();) {
+        const std::size_t b = std::min(v.find(':', a), v.size());
+        const std::string item = v.substr(a, b - a);
+        char* to = nullptr;
+        const double r = std::strtod(item.c_str(), &to);
+        if (item.empty() || to != item.c_str() + item.size() || !std::isfinite(r))
+          throw bad_value("a colon-separated list of numbers");
+        o.defocus_read.radii_cells.push_back(r);
+        a = b + 1;
+      }
+      continue;
+    }
     char* parsed_to = nullptr;
     const double x = std::strtod(v.c_str(), &parsed_to);
     if (v.empty() || parsed_to != v.c_str() + v.size() || !std::isfinite(x)) throw bad_value("a number");

@@ -6,6 +6,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace tagbench::bench {
 namespace test_detector_variants {
@@ -42,6 +43,8 @@ TEST(DetectorVariants, EachPairSetsItsOptionInOrder) {
   EXPECT_DOUBLE_EQ(o.second_look.max_size_px, 30);
   EXPECT_DOUBLE_EQ(o.second_look.min_size_px, 0);
   EXPECT_FALSE(o.pose_choice.with_lens);
+  apply_detector_variant(o, "dfr_radii=0:0.75:1.25", "x");
+  EXPECT_EQ(o.defocus_read.radii_cells, (std::vector<double>{0, 0.75, 1.25}));
 }
 
 TEST(DetectorVariants, BadPairsAreRefusedNamingTheDetectorAndThePair) {
@@ -52,6 +55,8 @@ TEST(DetectorVariants, BadPairsAreRefusedNamingTheDetectorAndThePair) {
   EXPECT_EQ(refusal("look=1x"), "detector 'tagbench/look=1x': look='1x' is not a number");
   EXPECT_EQ(refusal("contrast=nan"), "detector 'tagbench/contrast=nan': contrast='nan' is not a number");
   EXPECT_EQ(refusal("finder=fast"), "detector 'tagbench/finder=fast': finder='fast' is not gradient or threshold");
+  EXPECT_EQ(refusal("dfr_radii=0::1"), "detector 'tagbench/dfr_radii=0::1': dfr_radii='0::1' is not a colon-separated list of numbers");
+  EXPECT_EQ(refusal("dfr_radii=0:x"), "detector 'tagbench/dfr_radii=0:x': dfr_radii='0:x' is not a colon-separated list of numbers");
   EXPECT_EQ(refusal("reader=pixel"), "detector 'tagbench/reader=pixel': reader='pixel' is not point or area");
 }
 
