@@ -4,9 +4,21 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <stdexcept>
 
 namespace tagbench::bench {
+namespace {
+
+// The whole of `text` as a finite number, or nullopt (empty, trailing characters, inf, nan).
+std::optional<double> parse_number(const std::string& text) {
+  char* to = nullptr;
+  const double x = std::strtod(text.c_str(), &to);
+  if (text.empty() || to != text.c_str() + text.size() || !std::isfinite(x)) return std::nullopt;
+  return x;
+}
+
+}  // namespace
 
 void apply_detector_variant(DetectorOptions& o, const std::string& spec, const std::string& name) {
   std::size_t pos = 0;
@@ -34,19 +46,16 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
       o.defocus_read.radii_cells.clear();
       for (std::size_t a = 0; a <= v.size();) {
         const std::size_t b = std::min(v.find(':', a), v.size());
-        const std::string item = v.substr(a, b - a);
-        char* to = nullptr;
-        const double r = std::strtod(item.c_str(), &to);
-        if (item.empty() || to != item.c_str() + item.size() || !std::isfinite(r))
-          throw bad_value("a colon-separated list of numbers");
-        o.defocus_read.radii_cells.push_back(r);
+        const auto r = parse_number(v.substr(a, b - a));
+        if (!r) throw bad_value("a colon-separated list of numbers");
+        o.defocus_read.radii_cells.push_back(*r);
         a = b + 1;
       }
       continue;
     }
-    char* parsed_to = nullptr;
-    const double x = std::strtod(v.c_str(), &parsed_to);
-    if (v.empty() || parsed_to != v.c_str() + v.size() || !std::isfinite(x)) throw bad_value("a number");
+    const auto number = parse_number(v);
+    if (!number) throw bad_value("a number");
+    const double x = *number;
     if (k == "k") o.payload_area.samples_per_side = static_cast<int>(x);
     else if (k == "extent") o.payload_area.sample_extent = x;
     else if (k == "sharpen") o.payload_area.sharpening = x;
