@@ -3,8 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Dense>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "detect/decode_quads.hpp"
 #include "detect/detector.hpp"
@@ -98,12 +104,34 @@ bool sample_square(const ImageF& img, const Corners& q, int n, int m, Eigen::Vec
   const int side = n * m;
   y.resize(side * side);
   const double step = 2.0 / side;
-  for (int jr = 0; jr < side; ++jr)
-    for (int jc = 0; jc < side; ++jc) {
-      const Eigen::Vector2d p = apply_homography(*H, Eigen::Vector2d(-1 + step * (jc + 0.5), -1 + step * (jr + 0.5)));
-      if (!(p.x() >= 0) || !(p.y() >= 0) || p.x() > img.width - 1 || p.y() > img.height - 1) return false;
+  const double xmax = img.width - 1, ymax = img.height - 1;
+  for (int jr = 0; jr < side; ++jr) {
+    const double v = -1 + step * (jr + 0.5);
+    int jc = 0;
+#if defined(__SSE2__)
+    // Two samples at a time: the same doubles and floats as the scalar loop below (the pair
+    // functions' own guarantee), and false exactly when it would return false.
+    if (img.width >= 2 && img.height >= 2)
+      for (; jc + 2 <= side; jc += 2) {
+        __m128d qx, qy;
+        apply_homography_pair(*H, _mm_set_pd(-1 + step * (jc + 1.5), -1 + step * (jc + 0.5)), _mm_set1_pd(v), qx, qy);
+        alignas(16) double px[2], py[2];
+        _mm_store_pd(px, qx);
+        _mm_store_pd(py, qy);
+        for (int i = 0; i < 2; ++i)
+          if (!(px[i] >= 0) || !(py[i] >= 0) || px[i] > xmax || py[i] > ymax) return false;
+        alignas(16) float out[2];
+        sample_bilinear_inside_pair(img, qx, qy, out);
+        y(jr * side + jc) = out[0];
+        y(jr * side + jc + 1) = out[1];
+      }
+#endif
+    for (; jc < side; ++jc) {
+      const Eigen::Vector2d p = apply_homography(*H, Eigen::Vector2d(-1 + step * (jc + 0.5), v));
+      if (!(p.x() >= 0) || !(p.y() >= 0) || p.x() > xmax || p.y() > ymax) return false;
       y(jr * side + jc) = sample_bilinear_inside(img, p);  // sample_bilinear's value, its test made above
     }
+  }
   return true;
 }
 
@@ -176,12 +204,19 @@ std::optional<Detection> try_family(const ImageF& gray, const Quad& quad, const 
   const Code word = family.rotated_words()[static_cast<std::size_t>(best.index)];
   const Eigen::VectorXd p = pattern(word, d);
   if (!(model_cost(y, w.radii[best_radius].kernel * p, cells) <= opt.max_hypothesis_cost)) return std::nullopt;
-  // 2. Placement: coordinate descent over the 8 corner coordinates and the radius.
+  // 2. Placement: coordinate descent over the 8 corner coordinates and the radius. Each radius's
+  // model of the pattern is computed once, when first asked for (the descent asks for the
+  // neighbouring radii's again after every round that moved something).
+  std::vector<Eigen::VectorXd> models(w.radii.size());
+  const auto model = [&](std::size_t r) -> const Eigen::VectorXd& {
+    if (models[r].size() == 0) models[r] = w.radii[r].fine_kernel * p;
+    return models[r];
+  };
   Corners q = quad.corners;
   std::size_t k = best_radius;
-  Eigen::VectorXd e = w.radii[k].fine_kernel * p, yf;
+  Eigen::VectorXd yf;
   if (!sample_square(gray, q, n, m, yf)) return std::nullopt;
-  double cost = model_cost(yf, e, cells);
+  double cost = model_cost(yf, model(k), cells);
   Eigen::VectorXd trial;
   for (double step = opt.initial_step_px; step >= opt.final_step_px; step *= 0.5) {
     for (bool improved = true; improved;) {
@@ -194,15 +229,14 @@ std::optional<Detection> try_family(const ImageF& gray, const Quad& quad, const 
               opt.max_corner_shift_px)
             continue;
           if (!sample_square(gray, t, n, m, trial)) continue;
-          const double c = model_cost(trial, e, cells);
-          if (c < cost - 1e-9) cost = c, q = t, yf = trial, improved = true;
+          const double c = model_cost(trial, model(k), cells);
+          if (c < cost - 1e-9) cost = c, q = t, std::swap(yf, trial), improved = true;
         }
       for (const int dk : {-1, 1}) {
         const long k2 = static_cast<long>(k) + dk;
         if (k2 < 0 || k2 >= static_cast<long>(w.radii.size())) continue;
-        Eigen::VectorXd e2 = w.radii[static_cast<std::size_t>(k2)].fine_kernel * p;
-        const double c = model_cost(yf, e2, cells);
-        if (c < cost - 1e-9) cost = c, k = static_cast<std::size_t>(k2), e = std::move(e2), improved = true;
+        const double c = model_cost(yf, model(static_cast<std::size_t>(k2)), cells);
+        if (c < cost - 1e-9) cost = c, k = static_cast<std::size_t>(k2), improved = true;
       }
     }
   }

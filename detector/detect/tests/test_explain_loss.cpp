@@ -128,13 +128,13 @@ TEST(ExplainLoss, AQuadTooFarForItsSourceIsAMisread) {
   o.fate = QuadOutcome::Fate::kTooFarForItsSource;
   o.family = "36h11";
   o.id = 9;
-  o.hamming = 2;
-  o.bits[6] = f.codes()[9] ^ Code{0b101};  // two bits off
+  o.hamming = 3;
+  o.bits[6] = f.codes()[9] ^ Code{0b10101};  // three bits off: 36h11 corrects 3, the line quads 2
   t.quad_outcomes.push_back(o);
   const auto e = explain_loss({&f, 9, truth}, t, {}, DetectorOptions::thorough());
   EXPECT_EQ(e.stage, LossStage::kMisread) << e.text;
-  EXPECT_EQ(e.bits_wrong, 2);
-  EXPECT_NE(e.text.find("with 2 corrected, more than its quad's source accepts (the line quads: 2 fewer"),
+  EXPECT_EQ(e.bits_wrong, 3);
+  EXPECT_NE(e.text.find("with 3 corrected, more than its quad's source accepts (the line quads: 1 fewer"),
             std::string::npos)
       << e.text;
 }

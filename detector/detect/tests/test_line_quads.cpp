@@ -131,9 +131,10 @@ TEST(LineQuads, AtHalfResolutionOnlyWhenAsked) {
   EXPECT_GT(reads(asked), reads(o));
 }
 
-// LineQuadOptions::keep_exact: a family correcting no more bits than spare_bits (16h5 corrects 1,
-// spare_bits is 2) takes its exact readings from the line quads; without it, none (the quad decoded
-// but too far for its source). 36h11 (3 - 2 = 1 bit) takes its exact reading either way. The
+// LineQuadOptions::keep_exact: a family correcting no more bits than spare_bits (16h5 corrects 1;
+// spare_bits set to 2 here, the default before session 46) takes its exact readings from the line
+// quads; without it, none (the quad decoded but too far for its source). 36h11 (3 - 2 = 1 bit)
+// takes its exact reading either way. The
 // threshold stage is made blind (no window has the contrast it asks) so that the tag can only come
 // from the line quads.
 TEST(LineQuads, ExactReadingsKeptForFamiliesCorrectingFewBits) {
@@ -145,6 +146,7 @@ TEST(LineQuads, ExactReadingsKeptForFamiliesCorrectingFewBits) {
     o.threshold_quads.low_contrast.enabled = false;
     o.second_look.enabled = false;
     o.line_quads.keep_exact = keep_exact;
+    o.line_quads.spare_bits = 2;
     const TagFamily fam = load_family(family);
     ImageF img = synth::render_tag(120, 120, tag_cells(fam, id), synth::homography_for(c));
     for (float& v : img.data) v = 0.3f + 0.4f * v;  // contrast 0.4, under the threshold stage's floor
