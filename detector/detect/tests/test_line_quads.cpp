@@ -134,9 +134,8 @@ TEST(LineQuads, AtHalfResolutionOnlyWhenAsked) {
 // LineQuadOptions::keep_exact: a family correcting no more bits than spare_bits (16h5 corrects 1;
 // spare_bits set to 2 here, the default before session 46) takes its exact readings from the line
 // quads; without it, none (the quad decoded but too far for its source). 36h11 (3 - 2 = 1 bit)
-// takes its exact reading either way. The
-// threshold stage is made blind (no window has the contrast it asks) so that the tag can only come
-// from the line quads.
+// takes its exact reading either way. The threshold stage is made blind (no window has the contrast
+// it asks) so that the tag can only come from the line quads.
 TEST(LineQuads, ExactReadingsKeptForFamiliesCorrectingFewBits) {
   const Corners c = synth::square_tag_corners(60, 60, 36, 0.3);
   const auto found_by_line_quads = [&](const std::string& family, int id, bool keep_exact) {
