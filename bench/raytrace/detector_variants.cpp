@@ -244,6 +244,15 @@ void apply_detector_variant(DetectorOptions& o, const std::string& spec, const s
     else if (k == "rq_hole") o.ring_quads.min_hole = x;
     else if (k == "rq_fill") o.ring_quads.max_fill = x;
     else if (k == "psq_refine") o.printed_square.refine_edges = x != 0;
+    else if (k == "cc") o.corner_completion.enabled = x != 0;
+    else if (k == "cc_min") o.corner_completion.min_side_px = x;
+    else if (k == "cc_max") o.corner_completion.max_side_px = x;
+    else if (k == "cc_move") o.corner_completion.min_move_px = x;
+    else if (k == "cc_rej") o.corner_completion.border_rejected = x != 0;
+    else if (k == "cc_spare") o.corner_completion.spare_bits = static_cast<int>(x);
+    else if (k == "cc_n") o.corner_completion.support_samples = static_cast<int>(x);
+    else if (k == "cc_support") o.corner_completion.min_support = x;
+    else if (k == "cc_contrast") o.corner_completion.min_contrast = x;
     else if (k == "lowc_contrast") o.threshold_quads.low_contrast.min_contrast = static_cast<float>(x);
     else if (k == "lowc_max") o.threshold_quads.low_contrast.max_size_px = x;
     else if (k == "lowc_ring") o.threshold_quads.low_contrast.ring_check = x != 0;

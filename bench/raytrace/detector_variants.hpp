@@ -16,7 +16,8 @@
 //     bent, bent_*: folded tags; outer, outer_*, ring_*: the outer-outline fallback; look, look_*: the
 //     second look; soft, soft_*: the soft decoder (soft_decode.hpp); cref, cref_*: the code refit
 //     (code_refit.hpp); dfr, dfr_*: the defocus reading (defocus_read.hpp; dfr_rmax: radii 0 and
-//     0.6 up to it in steps of 0.1; dfr_radii: the radii as a colon-separated list, 0:0.7:0.9:1.1).
+//     0.6 up to it in steps of 0.1; dfr_radii: the radii as a colon-separated list, 0:0.7:0.9:1.1);
+//     cc, cc_min, cc_max, cc_move, cc_rej, cc_spare, cc_n, cc_support, cc_contrast: the corner completion (corner_completion.hpp).
 //     detector_variants.cpp maps every key to its field.
 #include <span>
 #include <string>

@@ -268,58 +268,62 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                                  opt_.ring_quads, tq.fit);
     decode_printed(rings, std::vector<bool>(rings.size(), true));
   }
+  // Inferred quads (the line quads, the corner completions) are read with a stricter test: a tag
+  // from them must be spare_bits closer to its code than its family corrects. Each is border
+  // pre-filtered and refined before reading (refine_first) or only the tags it gives, after reading.
+  const int max_d = max_payload_width(families_);
+  const auto refined = [&](const std::vector<Quad>& quads, bool inner, bool check_first) {
+    std::vector<Quad> out;
+    const ImageF& img = *found.decode_image;
+    const double contrast = opt_.payload.min_contrast;
+    for (const Quad& q : quads)
+      if (check_first && opt_.payload.quick_reject &&
+          !border_worth_refining(img, q.corners, max_d, contrast, inner && opt_.line_quads.inner_check_slack ? 4 : 0))
+        continue;
+      else if (auto r = refine_quad_edges(gray, q.corners, opt_.threshold_quads.refine)) {
+        out.push_back(q);
+        out.back().corners = *r;
+      }
+    return out;
+  };
+  const auto read_inferred = [&](const std::vector<Quad>& quads, bool refine_first, bool inner, bool check_first,
+                                 int spare_bits) {
+    const std::size_t first_new = decoded.size();
+    const std::size_t first_read = outcomes ? outcomes->size() : 0;
+    decode_more(refine_first ? refined(quads, inner, check_first) : quads);
+    // Hundreds of such quads a frame are read: a tag from them must be spare_bits closer to its code
+    // than a family corrects (a 36h11 false detection on the corpus and a misplaced quad on the
+    // realistic set were both 2 bits off).
+    const auto too_far = [&](const std::string& family, int hamming) {
+      if (hamming == 0 && opt_.line_quads.keep_exact) return false;
+      for (const TagFamily& f : families_)
+        if (f.name() == family)
+          return hamming > bits_corrected_for(f.min_hamming(), opt_.max_hamming, opt_.hamming_by_family) - spare_bits;
+      return false;
+    };
+    decoded.erase(std::remove_if(decoded.begin() + static_cast<std::ptrdiff_t>(first_new), decoded.end(),
+                                 [&](const Detection& d) { return too_far(d.family, d.hamming); }),
+                  decoded.end());
+    if (outcomes)  // the same judgement on the quads' outcomes, for explaining a lost tag
+      for (std::size_t i = first_read; i < outcomes->size(); ++i) {
+        QuadOutcome& o = (*outcomes)[i];
+        if (o.fate == QuadOutcome::Fate::kDecoded && too_far(o.family, o.hamming))
+          o.fate = QuadOutcome::Fate::kTooFarForItsSource;
+      }
+    if (!refine_first) refine_since(first_new);
+  };
   if (opt_.line_quads.enabled && opt_.quad_finder == QuadFinderKind::kThreshold &&
       (!opt_.half_resolution || opt_.line_quads.at_half_resolution)) {
     // line_quads.hpp: quads of straight edges where no tag was found, each read as the black square,
-    // then (those still uncovered) as printed squares; each refined before reading or, when its
-    // refine_black / refine_inner option is off, only the tags it gives, after reading.
-    const int max_d = max_payload_width(families_);
-    const auto refined = [&](const std::vector<Quad>& quads, bool inner) {
-      std::vector<Quad> out;
-      const ImageF& img = *found.decode_image;
-      const double contrast = opt_.payload.min_contrast;
-      for (const Quad& q : quads)
-        if (opt_.line_quads.check_before_refining && opt_.payload.quick_reject &&
-            !border_worth_refining(img, q.corners, max_d, contrast, inner && opt_.line_quads.inner_check_slack ? 4 : 0))
-          continue;
-        else if (auto r = refine_quad_edges(gray, q.corners, opt_.threshold_quads.refine)) {
-          out.push_back(q);
-          out.back().corners = *r;
-        }
-      return out;
-    };
-    const auto read = [&](const std::vector<Quad>& quads, bool refine_first, bool inner) {
-      const std::size_t first_new = decoded.size();
-      const std::size_t first_read = outcomes ? outcomes->size() : 0;
-      decode_more(refine_first ? refined(quads, inner) : quads);
-      // Hundreds of such quads a frame are read: a tag from them must be spare_bits closer to its code
-      // than a family corrects (a 36h11 false detection on the corpus and a misplaced quad on the
-      // realistic set were both 2 bits off).
-      const auto too_far = [&](const std::string& family, int hamming) {
-        if (hamming == 0 && opt_.line_quads.keep_exact) return false;
-        for (const TagFamily& f : families_)
-          if (f.name() == family)
-            return hamming > bits_corrected_for(f.min_hamming(), opt_.max_hamming, opt_.hamming_by_family) -
-                                 opt_.line_quads.spare_bits;
-        return false;
-      };
-      decoded.erase(std::remove_if(decoded.begin() + static_cast<std::ptrdiff_t>(first_new), decoded.end(),
-                                   [&](const Detection& d) { return too_far(d.family, d.hamming); }),
-                    decoded.end());
-      if (outcomes)  // the same judgement on the quads' outcomes, for explaining a lost tag
-        for (std::size_t i = first_read; i < outcomes->size(); ++i) {
-          QuadOutcome& o = (*outcomes)[i];
-          if (o.fate == QuadOutcome::Fate::kDecoded && too_far(o.family, o.hamming))
-            o.fate = QuadOutcome::Fate::kTooFarForItsSource;
-        }
-      if (!refine_first) refine_since(first_new);
-    };
+    // then (those still uncovered) as printed squares.
+    const int spare = opt_.line_quads.spare_bits;
+    const bool check = opt_.line_quads.check_before_refining;
     std::vector<Quad> lq = line_quads(gray, covered(), opt_.line_quads, workspace.impl().line_quads);
-    read(lq, opt_.line_quads.refine_black, false);
+    read_inferred(lq, opt_.line_quads.refine_black, false, check, spare);
     const std::vector<Corners> now = covered();
     std::vector<bool> look(lq.size());
     for (std::size_t i = 0; i < lq.size(); ++i) look[i] = !centre_covered(lq[i], now);
-    read(black_squares_in_printed_squares(lq, look, widths), opt_.line_quads.refine_inner, true);
+    read_inferred(black_squares_in_printed_squares(lq, look, widths), opt_.line_quads.refine_inner, true, check, spare);
   }
   if (opt_.code_refit.enabled) {  // code_refit.hpp: the quads still undecoded, placed by their likeliest code
     PayloadAreaOptions area = opt_.payload_area;
@@ -334,6 +338,11 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
     auto more = read_defocused_quads(gray, defocus_models_, all_quads, std::span(*outcomes).subspan(first_outcome),
                                      decoded, families_, opt_.max_hamming, opt_.hamming_by_family, opt_.defocus_read);
     decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
+  }
+  if (opt_.corner_completion.enabled && keep_quads) {  // corner_completion.hpp: a cut corner made up
+    const std::vector<Quad> completed = completed_quads(*found.decode_image, max_d, all_quads, std::span(*outcomes).subspan(first_outcome),
+                                                        covered(), opt_.corner_completion);
+    read_inferred(completed, true, false, true, opt_.corner_completion.spare_bits);
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));
   if (opt_.suppress_overlaps) out = suppress_overlaps(std::move(out));

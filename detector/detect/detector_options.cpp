@@ -187,6 +187,7 @@ DetectorOptions DetectorOptions::paper() {
   o.bent.enabled = false;
   o.code_refit.enabled = false;
   o.defocus_read.enabled = false;
+  o.corner_completion.enabled = false;
   o.photometric_guard.enabled = false;
   o.pose_choice.enabled = false;
   o.second_look.enabled = false;
@@ -296,6 +297,14 @@ void DetectorOptions::validate(std::span<const TagFamily> loaded) const {
   finite_at_least("code_refit.max_weak_distance", code_refit.max_weak_distance, 0);
   if (code_refit.min_family_hamming < 0) fail("code_refit.min_family_hamming", static_cast<long long>(code_refit.min_family_hamming), "must be >= 0");
   finite_at_least("code_refit.min_side_px", code_refit.min_side_px, 0);
+  finite_at_least("corner_completion.min_side_px", corner_completion.min_side_px, 0);
+  if (!(corner_completion.max_side_px >= corner_completion.min_side_px))
+    fail("corner_completion.max_side_px", corner_completion.max_side_px, "must be >= corner_completion.min_side_px");
+  finite_at_least("corner_completion.min_move_px", corner_completion.min_move_px, 0);
+  int_within("corner_completion.spare_bits", corner_completion.spare_bits, 0, 64);
+  int_within("corner_completion.support_samples", corner_completion.support_samples, 1, 1000);
+  within("corner_completion.min_support", corner_completion.min_support, 0, 1);
+  finite_at_least("corner_completion.min_contrast", corner_completion.min_contrast, 0);
   validate_defocus_read(defocus_read);
   if (!(code_refit.max_side_px >= code_refit.min_side_px)) fail("code_refit.max_side_px", code_refit.max_side_px, "must be >= code_refit.min_side_px");
   validate_occlusion_refit(occlusion);

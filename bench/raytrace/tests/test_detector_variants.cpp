@@ -45,6 +45,12 @@ TEST(DetectorVariants, EachPairSetsItsOptionInOrder) {
   EXPECT_FALSE(o.pose_choice.with_lens);
   apply_detector_variant(o, "dfr_radii=0:0.75:1.25", "x");
   EXPECT_EQ(o.defocus_read.radii_cells, (std::vector<double>{0, 0.75, 1.25}));
+  apply_detector_variant(o, "cc=1/cc_max=48/cc_rej=1/cc_spare=0/cc_support=0.9", "x");
+  EXPECT_TRUE(o.corner_completion.enabled);
+  EXPECT_DOUBLE_EQ(o.corner_completion.max_side_px, 48);
+  EXPECT_TRUE(o.corner_completion.border_rejected);
+  EXPECT_EQ(o.corner_completion.spare_bits, 0);
+  EXPECT_DOUBLE_EQ(o.corner_completion.min_support, 0.9);
 }
 
 TEST(DetectorVariants, BadPairsAreRefusedNamingTheDetectorAndThePair) {
