@@ -34,7 +34,7 @@ foreach(h codes/bits.hpp codes/hamming_scan.hpp codes/tag_family.hpp codes/famil
           detect/segmentation.hpp detect/gradient.hpp detect/homography.hpp detect/threshold_quads.hpp
           detect/threshold.hpp detect/components.hpp detect/boundaries.hpp detect/angle_order.hpp detect/quad_fit.hpp
           detect/edge_refine.hpp detect/quad_fit_occluded.hpp detect/occlusion_refit.hpp detect/linear_corners.hpp detect/photometric_refine.hpp
-          detect/outer_outline.hpp detect/second_look.hpp detect/group_look.hpp detect/printed_square.hpp detect/ring_quads.hpp detect/line_quads.hpp detect/coarse_pass.hpp detect/dark_outlines.hpp detect/line_segments.hpp detect/soft_decode.hpp detect/low_contrast_quads.hpp detect/bent_decode.hpp detect/code_refit.hpp detect/defocus_read.hpp detect/border_kink.hpp detect/photometric_guard.hpp
+          detect/outer_outline.hpp detect/second_look.hpp detect/group_look.hpp detect/printed_square.hpp detect/ring_quads.hpp detect/line_quads.hpp detect/coarse_pass.hpp detect/dark_outlines.hpp detect/line_segments.hpp detect/soft_decode.hpp detect/low_contrast_quads.hpp detect/bent_decode.hpp detect/code_refit.hpp detect/corner_completion.hpp detect/defocus_read.hpp detect/border_kink.hpp detect/photometric_guard.hpp
           detect/pose_choice.hpp)
   get_filename_component(dir ${h} DIRECTORY)
   install(FILES detector/${h} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tagbench/detail/${dir} COMPONENT dev)

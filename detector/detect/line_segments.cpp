@@ -149,10 +149,6 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
                                   0.5f * (r1[x] + r1[x + 1] - r0[x] - r0[x + 1])};
     };
     const auto differentiate = [&](int x0, int x1) {
-      for (int x = x0; x < x1; ++x) {  // no branch: vectorised
-        const auto [gx, gy] = gradient(x);
-        m_row[x] = std::sqrt(gx * gx + gy * gy);
-      }
       // Directions and the candidate list without a branch per pixel (the floor test is as unpredictable
       // as the texture): every pixel's index is written and the count advanced only for a candidate.
       const std::size_t first = s.candidates.size();
@@ -166,13 +162,20 @@ std::vector<Segment> detect_line_segments(const ImageF& img, const LineSegmentOp
       const auto choose = [](std::uint32_t drop, float kept, float dropped) {
         return std::bit_cast<float>((std::bit_cast<std::uint32_t>(kept) & ~drop) | (std::bit_cast<std::uint32_t>(dropped) & drop));
       };
+      // Magnitudes and directions first, in a loop of their own without a branch (vectorised); then
+      // the candidates and the maximum, which do not vectorise (the same numbers either way).
+      for (int x = x0; x < x1; ++x) {
+        const auto [gx, gy] = gradient(x);
+        const float m = std::sqrt(gx * gx + gy * gy);
+        m_row[x] = m;
+        const std::uint32_t drop = 0u - static_cast<std::uint32_t>(m < floor);
+        const float div = choose(drop, m, 1.0f);  // no division by zero where dropped
+        d[x] = {choose(drop, gx / div, kNaN), choose(drop, gy / div, kNaN)};
+      }
       for (int x = x0; x < x1; ++x) {
         const float m = m_row[x];
         const bool keep = !(m < floor);
         const std::uint32_t drop = 0u - static_cast<std::uint32_t>(!keep);
-        const auto [gx, gy] = gradient(x);
-        const float div = choose(drop, m, 1.0f);  // no division by zero where dropped
-        d[x] = {choose(drop, gx / div, kNaN), choose(drop, gy / div, kNaN)};
         cand[count] = static_cast<std::uint32_t>(row + static_cast<std::size_t>(x));
         count += keep;
         top = std::max(top, choose(drop, m, 0.0f));  // the maximum is >= 0: a dropped pixel leaves it
