@@ -174,7 +174,8 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   const bool printed_square = opt_.printed_square.enabled && opt_.quad_finder == QuadFinderKind::kThreshold;
   std::vector<QuadOutcome>* outcomes =
       trace ? &trace->quad_outcomes
-            : (opt_.bent.enabled || second_look || printed_square || opt_.code_refit.enabled || opt_.defocus_read.enabled)
+            : (opt_.bent.enabled || second_look || printed_square || opt_.code_refit.enabled || opt_.defocus_read.enabled ||
+               opt_.corner_completion.enabled)
                 ? &own_outcomes
                 : nullptr;
   const std::size_t first_outcome = outcomes ? outcomes->size() : 0;
@@ -192,7 +193,7 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
   }
   // Every quad decoded so far, parallel to outcomes[first_outcome...] (for the code refit).
   std::vector<Quad> all_quads;
-  const bool keep_quads = opt_.code_refit.enabled || opt_.defocus_read.enabled;
+  const bool keep_quads = opt_.code_refit.enabled || opt_.defocus_read.enabled || opt_.corner_completion.enabled;
   if (keep_quads) all_quads.assign(found.quads.begin(), found.quads.end());
   // Quads found after the first decoding (the second look, the group look), decoded and traced alike.
   const auto decode_more = [&](const std::vector<Quad>& quads) {
@@ -339,9 +340,12 @@ std::vector<Detection> Detector::run(const ImageF& gray, DetectorWorkspace& work
                                      decoded, families_, opt_.max_hamming, opt_.hamming_by_family, opt_.defocus_read);
     decoded.insert(decoded.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
   }
-  if (opt_.corner_completion.enabled && keep_quads) {  // corner_completion.hpp: a cut corner made up
-    const std::vector<Quad> completed = completed_quads(*found.decode_image, max_d, all_quads, std::span(*outcomes).subspan(first_outcome),
-                                                        covered(), opt_.corner_completion);
+  // corner_completion.hpp: a cut corner made up, last, so that the completions the reading refuses
+  // are not also offered to the code refit and the defocus reading (+15-23 % time when they were).
+  if (opt_.corner_completion.enabled) {
+    const std::vector<Quad> completed = completed_quads(*found.decode_image, max_d, all_quads,
+                                                        std::span(*outcomes).subspan(first_outcome), covered(),
+                                                        opt_.corner_completion);
     read_inferred(completed, true, false, true, opt_.corner_completion.spare_bits);
   }
   std::vector<Detection> out = suppress_duplicates(std::move(decoded));

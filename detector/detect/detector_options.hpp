@@ -319,11 +319,11 @@ struct DetectorOptions {
   // 1051 -> 1062, under a disk defocus (100 frames) 493 -> 504; no wrong id, no false detection,
   // none on the corpus in 36h11 (docs/default-profile.md, session 43).
   DefocusReadOptions defocus_read;
-  // Beyond the paper: each quad still undecoded after the line quads, with one corner replaced by
-  // the parallelogram completion of its other three (a corner cut by a shadow's edge or run into a
-  // dark neighbour), border pre-filtered, refined and read with the line quads' stricter test; before
-  // the code refit, which takes the completions too (corner_completion.hpp). Off in every profile
-  // (docs/default-profile.md, session 47).
+  // Beyond the paper: each quad still undecoded after every other source and retry, with one corner
+  // replaced by the parallelogram completion of its other three (a corner cut by a shadow's edge or
+  // run into a dark neighbour), border pre-filtered, refined and read with the line quads' stricter
+  // test (corner_completion.hpp). Off in every profile: realistic seeds 1 / 2 +4 / +2 tags for 5-6 %
+  // more time (docs/default-profile.md, session 47).
   CornerCompletionOptions corner_completion;
   // Pose: given intrinsics (pixels) and the tag size (metres, > 0).
   std::optional<CameraIntrinsics> camera;

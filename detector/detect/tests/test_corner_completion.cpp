@@ -158,6 +158,13 @@ TEST(CornerCompletion, TheDetectorWithItOnFindsTheTagOnceAndInPlace) {
   double best = 1e9;
   for (int r = 0; r < 4; ++r) best = std::min(best, max_error(printed_corners(got[0].corners, r), truth()));
   EXPECT_LT(best, 0.3);
+  // With none of the stages that keep every quad's outcome (the paper's profile): the completion keeps
+  // them itself.
+  DetectorOptions paper = DetectorOptions::paper();
+  paper.corner_completion.enabled = true;
+  const auto plain = Detector(paper).detect(img);
+  ASSERT_EQ(plain.size(), 1u);
+  EXPECT_EQ(plain[0].id, kId);
 }
 
 }  // namespace test_corner_completion
