@@ -1,10 +1,9 @@
 #include "detect/corner_completion.hpp"
 
-#include <algorithm>
-
 #include "detect/detector.hpp"  // QuadOutcome
 #include "detect/homography.hpp"
-#include "detect/payload_decode.hpp"  // sample_bilinear_inside
+#include "detect/line_quads.hpp"  // centre_covered
+#include "detect/payload_decode.hpp"  // sample_bilinear
 
 namespace tagbench {
 
@@ -17,11 +16,11 @@ Corners complete_corner(const Corners& q, int k) {
 
 namespace {
 
-// Every turn the same way as a clockwise quad's (on screen, y down): cross > 0 at each corner.
-bool convex_clockwise(const Corners& q) {
+// Every turn of q the way `sign` says (+1: clockwise on screen, y down; -1: counter-clockwise).
+bool convex_turning(const Corners& q, double sign) {
   for (std::size_t i = 0; i < 4; ++i) {
     const Eigen::Vector2d d1 = q[(i + 1) & 3] - q[i], d2 = q[(i + 2) & 3] - q[(i + 1) & 3];
-    if (!(d1.x() * d2.y() - d1.y() * d2.x() > 0)) return false;
+    if (!(sign * (d1.x() * d2.y() - d1.y() * d2.x()) > 0)) return false;
   }
   return true;
 }
@@ -46,11 +45,8 @@ bool completion_supported(const ImageF& img, int d, const Corners& c, int k, con
       const double t = 0.5 * (i + 0.5) / opt.support_samples;
       const Eigen::Vector2d p = corner + t * (other - corner);
       const Eigen::Vector2d in = p - half_cell * n, out = p + half_cell * n;
-      const auto inside_image = [&](const Eigen::Vector2d& q) {
-        return q.x() >= 0 && q.y() >= 0 && q.x() <= img.width - 1 && q.y() <= img.height - 1;
-      };
-      if (!inside_image(in) || !inside_image(out)) continue;
-      if (sample_bilinear_inside(img, out) - sample_bilinear_inside(img, in) >= opt.min_contrast) ++good;
+      const auto light = sample_bilinear(img, out), dark = sample_bilinear(img, in);
+      if (light && dark && *light - *dark >= opt.min_contrast) ++good;
     }
   }
   return good >= opt.min_support * 2 * opt.support_samples;
@@ -68,17 +64,13 @@ std::vector<Quad> completed_quads(const ImageF& img, int d, std::span<const Quad
     const Corners& q = quads[i].corners;
     const auto [shortest, longest] = side_length_range(q);
     if (!(shortest >= opt.min_side_px) || !(longest <= opt.max_side_px)) continue;
-    const Eigen::Vector2d centre = 0.25 * (q[0] + q[1] + q[2] + q[3]);
-    if (std::any_of(covered.begin(), covered.end(), [&](const Corners& c) { return inside_quad(c, centre); }))
-      continue;
-    // Which winding: the quad's own, so the completion keeps the corner order (clockwise on screen).
-    const bool clockwise = twice_signed_area(q) > 0;
+    if (centre_covered(quads[i], covered)) continue;
+    // The completion must turn the way the quad does (its winding, from its area).
+    const double winding = twice_signed_area(q) > 0 ? 1.0 : -1.0;
     for (int k = 0; k < 4; ++k) {
       const Corners c = complete_corner(q, k);
       if (!((c[static_cast<std::size_t>(k)] - q[static_cast<std::size_t>(k)]).norm() >= opt.min_move_px)) continue;
-      Corners cw = c;
-      if (!clockwise) std::reverse(cw.begin(), cw.end());
-      if (!convex_clockwise(cw) || !completion_supported(img, d, cw, clockwise ? k : 3 - k, opt)) continue;
+      if (!convex_turning(c, winding) || !completion_supported(img, d, c, k, opt)) continue;
       Quad n;
       n.corners = c;
       n.segments = {-1, -1, -1, -1};

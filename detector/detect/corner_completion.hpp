@@ -51,7 +51,8 @@ std::vector<Quad> completed_quads(const ImageF& img, int d, std::span<const Quad
                                   std::span<const QuadOutcome> outcomes, std::span<const Corners> covered,
                                   const CornerCompletionOptions& opt);
 
-// The support test above for corner k of the completed quad c (clockwise on screen).
+// The support test above for corner k of the completed quad c (either winding: the sides' outward
+// normals point away from its centre).
 bool completion_supported(const ImageF& img, int d, const Corners& c, int k, const CornerCompletionOptions& opt);
 
 // The quad with corner k replaced by the parallelogram completion of the other three.
