@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -155,6 +156,41 @@ TEST(Blur, BlurAndHalveEqualsBlurThenHalve) {
       for (std::size_t i = 0; i < ref.data.size(); ++i) EXPECT_NEAR(fused.data[i], ref.data[i], 2e-6) << w << "x" << h;
     }
     EXPECT_EQ(blur_and_halve(img, 0.0).data, half_resolution(img).data);
+  }
+}
+
+// gaussian_blur's values are those of the plain separable sum, bit for bit: rows first, then columns,
+// each output summing its taps in order from 0 in float, borders clamped. The vectorised passes
+// (eight outputs at a time) must not change a value, at the tails or the borders either; the sizes
+// give runs of 0-7 columns past the last full eight, images narrower than the kernel included.
+TEST(Blur, GaussianBlurIsThePlainSeparableSumBitForBit) {
+  const auto reference = [](const ImageF& img, double sigma) {
+    const std::vector<float> k = gaussian_kernel(sigma);
+    const int r = gaussian_radius(sigma), w = img.width, h = img.height;
+    ImageF tmp(w, h), out(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float s = 0.0f;
+        for (int t = 0; t <= 2 * r; ++t) s += k[static_cast<std::size_t>(t)] * img.at(std::clamp(x - r + t, 0, w - 1), y);
+        tmp.at(x, y) = s;
+      }
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float s = 0.0f;
+        for (int t = 0; t <= 2 * r; ++t) s += k[static_cast<std::size_t>(t)] * tmp.at(x, std::clamp(y - r + t, 0, h - 1));
+        out.at(x, y) = s;
+      }
+    return out;
+  };
+  for (auto [w, h] : {std::pair{37, 29}, std::pair{64, 9}, std::pair{8, 8}, std::pair{3, 41}, std::pair{101, 17}}) {
+    const ImageF img = random_image(w, h, static_cast<unsigned>(3 * w + h));
+    for (double sigma : {0.5, 0.75, 1.04, 2.0, 6.0, 25.0}) {
+      const ImageF got = gaussian_blur(img, sigma), want = reference(img, sigma);
+      ASSERT_EQ(got.width, w);
+      ASSERT_EQ(got.height, h);
+      for (std::size_t i = 0; i < want.data.size(); ++i)
+        ASSERT_EQ(got.data[i], want.data[i]) << w << "x" << h << " sigma " << sigma << " at " << i;
+    }
   }
 }
 
