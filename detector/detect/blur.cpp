@@ -21,6 +21,23 @@ void reshape(ImageF& img, int w, int h) {
   img.data.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
 }
 
+#if defined(__SSE2__)
+// Eight outputs dst[0..8): output j sums k[t] * tap(t)[j] over the taps in order from 0, in float,
+// the sums held in two registers, each output stored once. tap(t): the eight inputs of tap t.
+template <class Tap>
+void sum_eight(const std::vector<float>& k, Tap tap, float* dst) {
+  __m128 s0 = _mm_setzero_ps(), s1 = _mm_setzero_ps();
+  for (std::size_t t = 0; t < k.size(); ++t) {
+    const __m128 kt = _mm_set1_ps(k[t]);
+    const float* p = tap(t);
+    s0 = _mm_add_ps(s0, _mm_mul_ps(kt, _mm_loadu_ps(p)));
+    s1 = _mm_add_ps(s1, _mm_mul_ps(kt, _mm_loadu_ps(p + 4)));
+  }
+  _mm_storeu_ps(dst, s0);
+  _mm_storeu_ps(dst + 4, s1);
+}
+#endif
+
 // The output columns X of filter_rows whose taps all fall inside the row (no clamping): [lo, hi).
 struct Interior {
   int lo, hi;
@@ -46,22 +63,13 @@ void filter_row_span(const float* row, int w, const std::vector<float>& k, int f
   if (a >= b) {
     // no unclamped column in the span
   } else if (step == 1) {
-    // Eight outputs at a time, their sums held in two registers over the taps, so each output is
-    // stored once (summing into dst tap by tap loaded and stored it once a tap). Each output still
-    // sums its taps in the order 0, 1, ... in float from 0: the values of the loop below, bit for bit.
+    // Eight outputs at a time (sum_eight: each stored once, where summing into dst tap by tap loaded
+    // and stored it once a tap). Each output still sums its taps in the order 0, 1, ... in float from
+    // 0: the values of the loop below, bit for bit.
     const float* p = row + first;  // output X reads p[X + t]; a >= in.lo >= -first: inside the row
     int X = a;
 #if defined(__SSE2__)
-    for (; X + 8 <= b; X += 8) {
-      __m128 s0 = _mm_setzero_ps(), s1 = _mm_setzero_ps();
-      for (int t = 0; t < taps; ++t) {
-        const __m128 kt = _mm_set1_ps(k[static_cast<std::size_t>(t)]);
-        s0 = _mm_add_ps(s0, _mm_mul_ps(kt, _mm_loadu_ps(p + X + t)));
-        s1 = _mm_add_ps(s1, _mm_mul_ps(kt, _mm_loadu_ps(p + X + t + 4)));
-      }
-      _mm_storeu_ps(dst + X, s0);
-      _mm_storeu_ps(dst + X + 4, s1);
-    }
+    for (; X + 8 <= b; X += 8) sum_eight(k, [&](std::size_t t) { return p + X + t; }, dst + X);
 #endif
     for (; X < b; ++X) {
       float s = 0.0f;
@@ -100,20 +108,11 @@ void filter_col_span(const ImageF& src, const std::vector<float>& k, int first, 
   constexpr std::size_t kMaxTaps = 64;  // sigma up to about 10 px; wider kernels take the plain loop
   int x = X0;
 #if defined(__SSE2__)
-  // As filter_row_span: eight outputs a time summed in registers over the taps, in tap order from 0.
+  // As filter_row_span: eight outputs at a time (sum_eight).
   if (k.size() <= kMaxTaps) {
     std::array<const float*, kMaxTaps> rows{};
     for (std::size_t t = 0; t < k.size(); ++t) rows[t] = source_row(t);
-    for (; x + 8 <= X1; x += 8) {
-      __m128 s0 = _mm_setzero_ps(), s1 = _mm_setzero_ps();
-      for (std::size_t t = 0; t < k.size(); ++t) {
-        const __m128 kt = _mm_set1_ps(k[t]);
-        s0 = _mm_add_ps(s0, _mm_mul_ps(kt, _mm_loadu_ps(rows[t] + x)));
-        s1 = _mm_add_ps(s1, _mm_mul_ps(kt, _mm_loadu_ps(rows[t] + x + 4)));
-      }
-      _mm_storeu_ps(dst + x, s0);
-      _mm_storeu_ps(dst + x + 4, s1);
-    }
+    for (; x + 8 <= X1; x += 8) sum_eight(k, [&](std::size_t t) { return rows[t] + x; }, dst + x);
   }
 #endif
   std::fill(dst + x, dst + X1, 0.0f);
